@@ -1,0 +1,546 @@
+// Case files: reading with exact float rounding and file/line/field errors, atomic writing.
+//
+// nlohmann::json parses the text through its SAX interface so that (1) every number keeps its
+// original text, which is rounded once to float (a DOM would round to double first, and
+// decimal -> double -> float can double-round), and (2) every value keeps the line it stood on.
+#include "cullproof/case_io.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <random>
+#include <sstream>
+#include <system_error>
+
+namespace cullproof {
+
+using nlohmann::json;
+
+CaseError::CaseError(std::string file, int line, std::string field, const std::string& problem)
+    : std::runtime_error(file + ":" + std::to_string(line) + ": " +
+                         (field.empty() ? std::string() : "field '" + field + "': ") + problem),
+      file_(std::move(file)),
+      line_(line),
+      field_(std::move(field)) {}
+
+
+// ---------------------------------------------------------------------------------------------
+// Numbers
+
+namespace {
+
+bool is_hex_digit(char ch) { return std::isxdigit(static_cast<unsigned char>(ch)) != 0; }
+
+// Rounds a value parsed by strtof (correctly rounded in glibc) when std::from_chars reports a
+// range error: underflow rounds to zero or a subnormal as CONVENTIONS asks; overflow is an error.
+float strtof_checked(const std::string& s) {
+  errno = 0;
+  char* end = nullptr;
+  const float v = std::strtof(s.c_str(), &end);
+  if (end != s.c_str() + s.size()) throw std::invalid_argument("is not a number: \"" + s + "\"");
+  if (std::isinf(v)) throw std::invalid_argument("\"" + s + "\" overflows float");
+  return v;
+}
+
+}  // namespace
+
+float parse_case_float(std::string_view text, bool is_string) {
+  std::string s(text);
+  if (!is_string) {
+    float v = 0.0f;
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (r.ec == std::errc() && r.ptr == s.data() + s.size()) return v;
+    if (r.ec == std::errc::result_out_of_range) return strtof_checked(s);
+    throw std::invalid_argument("is not a number: \"" + s + "\"");
+  }
+  // C99 hexadecimal float: [+-]0x<hex digits>[.<hex digits>][p[+-]<decimal digits>]
+  std::size_t i = 0;
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  const bool prefix = i + 1 < s.size() && s[i] == '0' && (s[i + 1] == 'x' || s[i + 1] == 'X');
+  bool digits = false;
+  std::size_t j = i + 2;
+  if (prefix) {
+    while (j < s.size() && is_hex_digit(s[j])) { ++j; digits = true; }
+    if (j < s.size() && s[j] == '.') {
+      ++j;
+      while (j < s.size() && is_hex_digit(s[j])) { ++j; digits = true; }
+    }
+    if (j < s.size() && (s[j] == 'p' || s[j] == 'P')) {
+      ++j;
+      if (j < s.size() && (s[j] == '+' || s[j] == '-')) ++j;
+      const std::size_t k = j;
+      while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
+      if (j == k) digits = false;
+    }
+  }
+  if (!prefix || !digits || j != s.size())
+    throw std::invalid_argument("string \"" + s +
+                                "\" is not a C99 hexadecimal float (e.g. \"0x1.8p+3\")");
+  return strtof_checked(s);
+}
+
+std::string format_float(float x) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+std::string format_hex_float(float x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", double(x));
+  return buf;
+}
+
+// ---------------------------------------------------------------------------------------------
+// SAX reader: a DOM plus the line and raw text of every value, keyed by a readable path.
+
+namespace {
+
+struct LineState {
+  int line = 1;
+  int token_line = 1;  // line of the last non-blank character consumed
+};
+
+struct CountingIterator {
+  using iterator_category = std::forward_iterator_tag;
+  using value_type = char;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const char*;
+  using reference = const char&;
+  const char* p = nullptr;
+  LineState* st = nullptr;
+  reference operator*() const { return *p; }
+  CountingIterator& operator++() {
+    if (*p == '\n') ++st->line;
+    else if (!std::isspace(static_cast<unsigned char>(*p))) st->token_line = st->line;
+    ++p;
+    return *this;
+  }
+  CountingIterator operator++(int) { CountingIterator t = *this; ++*this; return t; }
+  bool operator==(const CountingIterator& o) const { return p == o.p; }
+  bool operator!=(const CountingIterator& o) const { return p != o.p; }
+};
+
+struct ValueMeta {
+  int line = 0;
+  std::string raw;  // number text, for numbers
+};
+
+class Reader : public nlohmann::json_sax<json> {
+ public:
+  Reader(std::string source, LineState* st) : source_(std::move(source)), st_(st) {}
+
+  json root;
+  std::map<std::string, ValueMeta> meta;  // path -> line and raw number text
+
+  bool null() override { return put(json(nullptr), {}); }
+  bool boolean(bool v) override { return put(json(v), {}); }
+  bool number_integer(number_integer_t v) override { return put(json(v), std::to_string(v)); }
+  bool number_unsigned(number_unsigned_t v) override { return put(json(v), std::to_string(v)); }
+  bool number_float(number_float_t v, const string_t& s) override { return put(json(v), s); }
+  bool string(string_t& v) override { return put(json(v), {}); }
+  bool binary(binary_t&) override { return put(json(nullptr), {}); }
+  bool start_object(std::size_t) override { return open(json::object()); }
+  bool end_object() override { stack_.pop_back(); return true; }
+  bool start_array(std::size_t) override { return open(json::array()); }
+  bool end_array() override { stack_.pop_back(); return true; }
+  bool key(string_t& k) override {
+    Frame& f = stack_.back();
+    if (f.node->contains(k))
+      throw CaseError(source_, st_->token_line, join(f.path, k), "duplicate field");
+    key_ = k;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& ex) override {
+    std::string msg = ex.what();
+    // nlohmann's messages start with "[json.exception.parse_error.101] parse error at line L, column C: ";
+    // keep the part after the bracket tag, and name our own line.
+    const auto pos = msg.find("] ");
+    if (pos != std::string::npos) msg = msg.substr(pos + 2);
+    throw CaseError(source_, st_->line, "", "invalid JSON: " + msg);
+  }
+
+ private:
+  struct Frame {
+    json* node;
+    std::string path;
+  };
+  std::vector<Frame> stack_;
+  std::string key_;
+  std::string source_;
+  LineState* st_;
+
+  static std::string join(const std::string& base, const std::string& k) {
+    return base.empty() ? k : base + "." + k;
+  }
+
+  // Adds a value at the current position; returns its path and the stored node.
+  std::pair<std::string, json*> place(json v) {
+    if (stack_.empty()) {
+      root = std::move(v);
+      return {"", &root};
+    }
+    Frame& f = stack_.back();
+    if (f.node->is_object()) {
+      std::string path = join(f.path, key_);
+      json& slot = (*f.node)[key_];
+      slot = std::move(v);
+      return {path, &slot};
+    }
+    std::string path = f.path + "[" + std::to_string(f.node->size()) + "]";
+    f.node->push_back(std::move(v));
+    return {path, &f.node->back()};
+  }
+  bool put(json v, std::string raw) {
+    auto [path, node] = place(std::move(v));
+    (void)node;
+    meta[path] = ValueMeta{st_->token_line, std::move(raw)};
+    return true;
+  }
+  bool open(json v) {
+    auto [path, node] = place(std::move(v));
+    meta[path] = ValueMeta{st_->token_line, {}};
+    stack_.push_back(Frame{node, path});
+    return true;
+  }
+};
+
+class CaseParser {
+ public:
+  CaseParser(const Reader& r, std::string source) : r_(r), source_(std::move(source)) {}
+
+  Case parse() {
+    const json& root = r_.root;
+    if (!root.is_object()) fail("", "a case must be a JSON object");
+    Case c;
+    c.id = get_string(root, "", "id");
+    c.frustum = parse_frustum(need(root, "", "frustum"), "frustum");
+    c.volume = parse_volume(need(root, "", "volume"), "volume");
+    if (root.contains("truth")) {
+      const std::string t = get_string(root, "", "truth");
+      try {
+        c.truth = visibility_from_string(t);
+      } catch (const std::invalid_argument& e) {
+        fail("truth", e.what());
+      }
+    }
+    if (root.contains("note")) c.note = get_string(root, "", "note");
+    for (auto it = root.begin(); it != root.end(); ++it) {
+      const std::string& k = it.key();
+      if (k != "id" && k != "frustum" && k != "volume" && k != "truth" && k != "note")
+        c.extra[k] = it.value();
+    }
+    return c;
+  }
+
+ private:
+  const Reader& r_;
+  std::string source_;
+
+  int line_of(const std::string& path) const {
+    // The value's own line, or the nearest enclosing value's line.
+    std::string p = path;
+    while (true) {
+      auto it = r_.meta.find(p);
+      if (it != r_.meta.end()) return it->second.line;
+      if (p.empty()) return 1;
+      const auto cut = p.find_last_of(".[");
+      p = cut == std::string::npos ? std::string() : p.substr(0, cut);
+    }
+  }
+  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+    throw CaseError(source_, line_of(path), path, problem);
+  }
+  static std::string join(const std::string& base, const std::string& k) {
+    return base.empty() ? k : base + "." + k;
+  }
+  static std::string idx(const std::string& base, std::size_t i) {
+    return base + "[" + std::to_string(i) + "]";
+  }
+  const json& need(const json& obj, const std::string& path, const char* key) const {
+    if (!obj.is_object()) fail(path, "must be an object");
+    auto it = obj.find(key);
+    if (it == obj.end()) fail(join(path, key), "missing field");
+    return *it;
+  }
+  std::string get_string(const json& obj, const std::string& path, const char* key) const {
+    const json& v = need(obj, path, key);
+    if (!v.is_string()) fail(join(path, key), "must be a string");
+    return v.get<std::string>();
+  }
+  float number(const json& v, const std::string& path) const {
+    if (!v.is_number() && !v.is_string())
+      fail(path, "must be a number or a hexadecimal-float string");
+    try {
+      if (v.is_string()) return parse_case_float(v.get<std::string>(), true);
+      auto it = r_.meta.find(path);
+      const std::string raw = it != r_.meta.end() && !it->second.raw.empty() ? it->second.raw : v.dump();
+      return parse_case_float(raw, false);
+    } catch (const std::invalid_argument& e) {
+      fail(path, e.what());
+    }
+  }
+  const json& array_of(const json& v, const std::string& path, std::size_t n) const {
+    if (!v.is_array()) fail(path, "must be an array of " + std::to_string(n) + " numbers");
+    if (v.size() != n)
+      fail(path, "must have " + std::to_string(n) + " elements, has " + std::to_string(v.size()));
+    return v;
+  }
+  glm::vec3 vec3(const json& v, const std::string& path) const {
+    array_of(v, path, 3);
+    glm::vec3 out;
+    for (std::size_t i = 0; i < 3; ++i) out[int(i)] = number(v[i], idx(path, i));
+    return out;
+  }
+
+  CaseFrustum parse_frustum(const json& f, const std::string& path) const {
+    if (!f.is_object()) fail(path, "must be an object with \"planes\" or \"matrix\"");
+    const bool has_planes = f.contains("planes"), has_matrix = f.contains("matrix");
+    if (has_planes == has_matrix)
+      fail(path, "must have exactly one of \"planes\" and \"matrix\"");
+    if (has_planes) {
+      const std::string pp = join(path, "planes");
+      const json& planes = f["planes"];
+      if (!planes.is_array() || planes.size() != 6)
+        fail(pp, "must be an array of 6 planes [a,b,c,d] (left, right, bottom, top, near, far), has " +
+                     (planes.is_array() ? std::to_string(planes.size()) : std::string("no array")));
+      Frustum fr;
+      for (std::size_t i = 0; i < 6; ++i) {
+        const std::string ip = idx(pp, i);
+        array_of(planes[i], ip, 4);
+        float abcd[4];
+        for (std::size_t k = 0; k < 4; ++k) abcd[k] = number(planes[i][k], idx(ip, k));
+        fr[int(i)] = Plane{glm::vec3(abcd[0], abcd[1], abcd[2]), abcd[3]};
+      }
+      return frustum_spec(fr);
+    }
+    const std::string mp = join(path, "matrix");
+    array_of(f["matrix"], mp, 16);
+    glm::mat4 m;
+    for (std::size_t i = 0; i < 16; ++i) m[int(i / 4)][int(i % 4)] = number(f["matrix"][i], idx(mp, i));
+    DepthConvention depth;
+    const std::string d = get_string(f, path, "depth");
+    if (d == "negative_one_to_one") depth.range = DepthRange::negative_one_to_one;
+    else if (d == "zero_to_one") depth.range = DepthRange::zero_to_one;
+    else fail(join(path, "depth"), "must be \"negative_one_to_one\" or \"zero_to_one\", got \"" + d + "\"");
+    if (f.contains("reversed_z")) {
+      if (!f["reversed_z"].is_boolean()) fail(join(path, "reversed_z"), "must be true or false");
+      depth.reversed_z = f["reversed_z"].get<bool>();
+    }
+    return frustum_spec(m, depth);
+  }
+
+  Volume parse_volume(const json& v, const std::string& path) const {
+    if (!v.is_object() || v.size() != 1)
+      fail(path, "must be an object with exactly one of \"aabb\", \"obb\", \"sphere\", \"point\"");
+    const std::string kind = v.begin().key();
+    const std::string kp = join(path, kind);
+    const json& body = v.begin().value();
+    if (kind == "point") return vec3(body, kp);
+    if (kind == "aabb") {
+      Aabb b{vec3(need(body, kp, "min"), join(kp, "min")), vec3(need(body, kp, "max"), join(kp, "max"))};
+      for (int i = 0; i < 3; ++i)
+        if (b.min[i] > b.max[i])
+          fail(join(kp, "min") + "[" + std::to_string(i) + "]",
+               "min > max (" + format_float(b.min[i]) + " > " + format_float(b.max[i]) + ")");
+      return b;
+    }
+    if (kind == "sphere") {
+      Sphere s{vec3(need(body, kp, "center"), join(kp, "center")), number(need(body, kp, "radius"), join(kp, "radius"))};
+      if (s.radius < 0.0f) fail(join(kp, "radius"), "is negative (" + format_float(s.radius) + ")");
+      return s;
+    }
+    if (kind == "obb") {
+      Obb b;
+      b.center = vec3(need(body, kp, "center"), join(kp, "center"));
+      const std::string ap = join(kp, "axes");
+      const json& axes = need(body, kp, "axes");
+      if (!axes.is_array() || axes.size() != 3)
+        fail(ap, "must be an array of 3 axes [[x,y,z],[x,y,z],[x,y,z]]");
+      for (std::size_t i = 0; i < 3; ++i) {
+        b.axes[int(i)] = vec3(axes[i], idx(ap, i));
+        if (b.axes[int(i)] == glm::vec3(0.0f)) fail(idx(ap, i), "is a zero-length axis");
+      }
+      b.half = vec3(need(body, kp, "half"), join(kp, "half"));
+      for (std::size_t i = 0; i < 3; ++i)
+        if (b.half[int(i)] < 0.0f)
+          fail(idx(join(kp, "half"), i), "is negative (" + format_float(b.half[int(i)]) + ")");
+      return b;
+    }
+    fail(path, "unknown volume kind \"" + kind + "\" (expected aabb, obb, sphere or point)");
+  }
+};
+
+std::string read_all(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw std::runtime_error(file.string() + ": read error");
+  return ss.str();
+}
+
+}  // namespace
+
+Case parse_case(std::string_view text, std::string_view source, int first_line) {
+  LineState st;
+  st.line = st.token_line = first_line;
+  Reader reader{std::string(source), &st};
+  CountingIterator b{text.data(), &st}, e{text.data() + text.size(), &st};
+  json::sax_parse(b, e, &reader);
+  return CaseParser(reader, std::string(source)).parse();
+}
+
+Case read_case_file(const std::filesystem::path& file) {
+  const std::string text = read_all(file);
+  return parse_case(text, file.string(), 1);
+}
+
+std::vector<Case> read_cases_jsonl(const std::filesystem::path& file) {
+  const std::string text = read_all(file);
+  std::vector<Case> out;
+  std::size_t pos = 0;
+  int line = 1;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view l(text.data() + pos, end - pos);
+    bool blank = true;
+    for (char ch : l) blank = blank && std::isspace(static_cast<unsigned char>(ch));
+    if (!blank) out.push_back(parse_case(l, file.string(), line));
+    pos = end + 1;
+    ++line;
+  }
+  return out;
+}
+
+std::vector<Case> read_cases(const std::filesystem::path& file) {
+  if (file.extension() == ".jsonl") return read_cases_jsonl(file);
+  std::vector<Case> out;
+  out.push_back(read_case_file(file));
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+namespace {
+
+std::string vec_text(const glm::vec3& v) {
+  return "[" + format_float(v.x) + ", " + format_float(v.y) + ", " + format_float(v.z) + "]";
+}
+
+}  // namespace
+
+std::string format_volume(const Volume& v) {
+  struct V {
+    std::string operator()(const Point& p) const { return "{\"point\": " + vec_text(p) + "}"; }
+    std::string operator()(const Sphere& s) const {
+      return "{\"sphere\": {\"center\": " + vec_text(s.center) + ", \"radius\": " + format_float(s.radius) + "}}";
+    }
+    std::string operator()(const Aabb& b) const {
+      return "{\"aabb\": {\"min\": " + vec_text(b.min) + ", \"max\": " + vec_text(b.max) + "}}";
+    }
+    std::string operator()(const Obb& b) const {
+      return "{\"obb\": {\"center\": " + vec_text(b.center) + ", \"axes\": [" + vec_text(b.axes[0]) + ", " +
+             vec_text(b.axes[1]) + ", " + vec_text(b.axes[2]) + "], \"half\": " + vec_text(b.half) + "}}";
+    }
+  };
+  return std::visit(V{}, v);
+}
+
+std::string format_frustum(const CaseFrustum& f) {
+  std::string s;
+  if (f.matrix) {
+    s = "{\"matrix\": [";
+    for (int i = 0; i < 16; ++i) s += (i ? ", " : "") + format_float((*f.matrix)[i / 4][i % 4]);
+    s += std::string("], \"depth\": \"") +
+         (f.depth.range == DepthRange::negative_one_to_one ? "negative_one_to_one" : "zero_to_one") +
+         "\", \"reversed_z\": " + (f.depth.reversed_z ? "true" : "false") + "}";
+    return s;
+  }
+  s = "{\"planes\": [";
+  for (int i = 0; i < 6; ++i) {
+    const Plane& p = f.planes[i];
+    s += (i ? ", [" : "[") + format_float(p.n.x) + ", " + format_float(p.n.y) + ", " +
+         format_float(p.n.z) + ", " + format_float(p.d) + "]";
+  }
+  return s + "]}";
+}
+
+std::string format_case(const Case& c, bool pretty) {
+  const char* sep = pretty ? ",\n  " : ", ";
+  std::string s = pretty ? "{\n  " : "{";
+  s += "\"id\": " + json(c.id).dump();
+  s += sep + std::string("\"frustum\": ") + format_frustum(c.frustum);
+  s += sep + std::string("\"volume\": ") + format_volume(c.volume);
+  if (c.truth) s += sep + std::string("\"truth\": \"") + std::string(to_string(*c.truth)) + "\"";
+  if (!c.note.empty()) s += sep + std::string("\"note\": ") + json(c.note).dump();
+  if (c.extra.is_object())
+    for (auto it = c.extra.begin(); it != c.extra.end(); ++it)
+      s += sep + json(it.key()).dump() + ": " + it.value().dump();
+  s += pretty ? "\n}\n" : "}";
+  return s;
+}
+
+void write_file_atomic(const std::filesystem::path& file, std::string_view text, bool overwrite) {
+  namespace fs = std::filesystem;
+  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  fs::create_directories(dir);
+  if (!overwrite && fs::exists(file))
+    throw std::runtime_error(file.string() + ": exists already; not overwritten");
+  // A unique temporary name in the same directory, so rename() is atomic on POSIX.
+  std::random_device rd;
+  const fs::path tmp = dir / ("." + file.filename().string() + ".tmp-" + std::to_string(::getpid()) +
+                              "-" + std::to_string(rd()));
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0) throw std::runtime_error(tmp.string() + ": cannot create: " + std::strerror(errno));
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const std::string err = std::strerror(errno);
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      throw std::runtime_error(tmp.string() + ": write failed: " + err);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    const std::string err = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(tmp.string() + ": flush failed: " + err);
+  }
+  if (!overwrite) {
+    // link() fails if the target exists: no window in which another writer's file is replaced.
+    if (::link(tmp.c_str(), file.c_str()) != 0) {
+      const std::string err = std::strerror(errno);
+      ::unlink(tmp.c_str());
+      throw std::runtime_error(file.string() + ": not written: " + err);
+    }
+    ::unlink(tmp.c_str());
+    return;
+  }
+  if (::rename(tmp.c_str(), file.c_str()) != 0) {
+    const std::string err = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(file.string() + ": rename failed: " + err);
+  }
+}
+
+void write_case_file(const std::filesystem::path& file, const Case& c, bool overwrite) {
+  write_file_atomic(file, format_case(c, true), overwrite);
+}
+
+}  // namespace cullproof

@@ -1,0 +1,141 @@
+// Frustum construction: from a clip matrix (Gribb–Hartmann), from gluPerspective/gluLookAt
+// parameters (Lighthouse3D's geometric approach), from Hoff's off-axis camera, stereo pairs,
+// orthographic projections and per-object (local-space) matrices; corners and symmetry.
+//
+// Sources:
+//  - G. Gribb, K. Hartmann, "Fast Extraction of Viewing Frustum Planes from the
+//    World-View-Projection Matrix", 2001 (row sums as fixed in shared/CONVENTIONS.md "Matrices").
+//  - Lighthouse3D "View Frustum Culling Tutorial", sections "Geometric Approach - Extracting the
+//    Planes" and "Clip Space Approach" (shared/seeds/003).
+//  - K. Hoff, "A 'Fast' Method for Culling of OBBs Against a Perspective Viewing Frustum", 1996:
+//    camera axes, off-axis centre of projection, window on the camera XY plane (shared/seeds/002).
+//  - The p-vertex post (shared/seeds/001): planes in object-local space from a per-object
+//    modelview-projection matrix.
+#pragma once
+
+#include "cullproof/geometry.hpp"
+
+#include <array>
+#include <optional>
+
+namespace cullproof {
+
+/// Clip-space depth range of a projection matrix.
+enum class DepthRange {
+  negative_one_to_one,  ///< OpenGL: -w <= z <= w
+  zero_to_one,          ///< Direct3D, Vulkan, Metal: 0 <= z <= w
+};
+
+/// How a clip matrix maps depth: the range, and whether near maps to the top of it (reversed-Z).
+struct DepthConvention {
+  DepthRange range = DepthRange::negative_one_to_one;
+  bool reversed_z = false;
+};
+
+/// Row i (0-based) of a GLM column-major matrix, as (a, b, c, d) of the clip coordinate it gives.
+glm::vec4 matrix_row(const glm::mat4& m, int i) noexcept;
+
+/// Gribb–Hartmann extraction in float from clip = m * x. With r1..r4 the rows: left r4+r1,
+/// right r4-r1, bottom r4+r2, top r4-r2; depth per `depth` (CONVENTIONS "Matrices"): near r4+r3
+/// or r3, far r4-r3; reversed-Z swaps the near and far roles. An infinite far plane comes out as
+/// n == 0, d > 0 ("contains all space"), never NaN. Planes are not normalised.
+/// Passing P*V gives world-space planes; passing P*V*M gives planes in M's local space.
+Frustum frustum_from_matrix(const glm::mat4& clip_from_space, DepthConvention depth = {});
+
+/// Planes in an object's local space: frustum_from_matrix(view_proj * model). Test boxes given in
+/// the object's own coordinates against these (the p-vertex post, shared/seeds/001).
+Frustum local_frustum(const glm::mat4& view_proj, const glm::mat4& model, DepthConvention depth = {});
+
+/// gluPerspective + gluLookAt parameters (Lighthouse3D). `far_dist` may be +infinity.
+struct PerspectiveCamera {
+  float fovy_degrees = 60.0f;  ///< vertical field of view
+  float aspect = 1.0f;         ///< width / height ("ratio")
+  float near_dist = 0.1f;
+  float far_dist = 100.0f;
+  glm::vec3 eye{0.0f};
+  glm::vec3 target{0.0f, 0.0f, -1.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+};
+
+/// Lighthouse3D geometric approach, normal-and-point variant ("the more efficient alternative"):
+/// near (normal d, point nc), far (normal -d, point fc), side planes through the eye. Computed in
+/// double and rounded to float; the side normals are unit, so planes agree with
+/// frustum_from_matrix(view_projection(cam)).normalized() to within float rounding of the inputs
+/// (tests/test_frustum_build.cpp states the tolerance). Throws ValidationError for a camera with
+/// fov outside (0, 180), aspect <= 0, near <= 0, far <= near, eye == target or up parallel to the
+/// view direction.
+Frustum frustum_from_camera(const PerspectiveCamera& cam);
+/// glm::perspective (or infinitePerspective when far is infinite) times glm::lookAt, for the
+/// given depth convention (reversed-Z swaps near and far in the matrix).
+glm::mat4 view_projection(const PerspectiveCamera& cam, DepthConvention depth = {});
+
+/// Hoff's camera (shared/seeds/002): camera axes in world coordinates, an origin, a centre of
+/// projection (COP) in camera coordinates that may be off-axis, a viewplane window on the camera
+/// XY plane (z = 0), near and far planes parallel to it. The camera looks along -z (towards -vpn):
+/// cop.z > near_z > far_z. `far_z` may be -infinity.
+struct HoffCamera {
+  glm::vec3 origin{0.0f};
+  glm::vec3 horizon{1.0f, 0.0f, 0.0f};  ///< camera x axis in world coordinates (unit)
+  glm::vec3 view_up{0.0f, 1.0f, 0.0f};  ///< camera y axis (unit)
+  glm::vec3 vpn{0.0f, 0.0f, 1.0f};      ///< viewplane normal, camera z axis (unit), points back
+  glm::vec3 cop{0.0f, 0.0f, 1.0f};      ///< centre of projection, camera coordinates
+  float window_left = -0.5f, window_right = 0.5f, window_bottom = -0.5f, window_top = 0.5f;
+  float near_z = 0.5f;   ///< camera-space z of the near plane
+  float far_z = -100.0f; ///< camera-space z of the far plane
+};
+
+/// The frustum of a HoffCamera, planes through the COP and the window edges, in world space.
+/// Throws ValidationError naming the field for an inconsistent camera.
+Frustum frustum_from_hoff_camera(const HoffCamera& cam);
+/// The COP of a HoffCamera in world coordinates.
+glm::vec3 hoff_cop_world(const HoffCamera& cam) noexcept;
+
+/// A stereo pair with parallel view axes and off-axis (asymmetric) frusta converging at
+/// `convergence` (the standard "off-axis" stereo set-up).
+struct StereoRig {
+  PerspectiveCamera center;          ///< the cyclopean camera
+  float eye_separation = 0.065f;     ///< distance between the eyes, world units
+  float convergence = 2.0f;          ///< distance of the zero-parallax plane
+};
+/// {left eye, right eye} view-projection matrices (glm::frustum with shifted window).
+std::array<glm::mat4, 2> stereo_view_projections(const StereoRig& rig, DepthConvention depth = {});
+
+/// The frustum of a case: six planes, or a clip matrix with its depth convention.
+struct CaseFrustum {
+  /// The planes as given, or (for a matrix case) extracted from the float matrix in float by
+  /// frustum_from_matrix: what a float culler sees.
+  Frustum planes;
+  /// Set when the case gives the frustum as a matrix; the truth is then end-to-end (exact
+  /// extraction from these float entries).
+  std::optional<glm::mat4> matrix;
+  DepthConvention depth;
+};
+
+/// A case frustum made from planes.
+CaseFrustum frustum_spec(const Frustum& planes);
+/// A case frustum made from a clip matrix (planes extracted in float by frustum_from_matrix).
+CaseFrustum frustum_spec(const glm::mat4& matrix, DepthConvention depth);
+
+/// An off-axis perspective projection (glm::frustum) for the given depth convention.
+glm::mat4 off_axis_projection(float left, float right, float bottom, float top, float near_dist,
+                              float far_dist, DepthConvention depth = {});
+/// An orthographic projection (glm::ortho) for the given depth convention.
+glm::mat4 orthographic_projection(float left, float right, float bottom, float top,
+                                  float near_dist, float far_dist, DepthConvention depth = {});
+
+/// The 8 corners of a bounded frustum, computed in double by intersecting plane triples.
+/// Index bits: bit 0 right (else left), bit 1 top (else bottom), bit 2 far (else near).
+/// Throws std::domain_error when the frustum is unbounded (a degenerate plane, or three planes
+/// that do not meet in a point).
+std::array<glm::dvec3, 8> frustum_corners(const Frustum& f);
+/// Whether the frustum is bounded (all six planes non-degenerate and every corner triple meets).
+bool is_bounded(const Frustum& f) noexcept;
+/// The centre of a bounded frustum: the mean of its eight corners (Assarsson & Möller, fn. 5).
+glm::dvec3 frustum_center(const Frustum& f);
+
+/// Whether a bounded frustum is symmetric about its view axis (what the octant test needs,
+/// Assarsson & Möller 3.3): near and far faces are parallel rectangles centred on one line
+/// perpendicular to them, with parallel edges. `rel_tol` is relative to the frustum's size.
+bool is_symmetric(const Frustum& f, double rel_tol = 1e-5);
+
+}  // namespace cullproof
