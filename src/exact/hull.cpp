@@ -1,0 +1,192 @@
+// Frustum polyhedron helpers for src/exact (see hull.hpp).
+#include "hull.hpp"
+
+#include "cullproof/exact.hpp"
+#include "cullproof/frustum_build.hpp"
+
+#include <cmath>
+
+namespace cullproof {
+namespace exact_detail {
+
+namespace {
+
+bool meet(const Plane& a, const Plane& b, const Plane& c, glm::dvec3& x) {
+  const glm::dvec3 na(a.n), nb(b.n), nc(c.n);
+  const glm::dvec3 bc = glm::cross(nb, nc);
+  const double det = glm::dot(na, bc);
+  if (det == 0.0 || !std::isfinite(det)) return false;
+  x = (-double(a.d) * bc - double(b.d) * glm::cross(nc, na) - double(c.d) * glm::cross(na, nb)) / det;
+  return std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z);
+}
+
+}  // namespace
+
+std::optional<FrustumHull> frustum_hull(const Frustum& f) {
+  FrustumHull h;
+  for (const Plane& p : f.planes)
+    if (p.is_degenerate() && p.d < 0.0f) {
+      h.empty = true;
+      return h;
+    }
+  for (int i = 0; i < kPlaneCount; ++i)
+    if (f[i].is_degenerate() && i != kFar) return std::nullopt;
+  const bool infinite = f[kFar].is_degenerate();
+  const int layers = infinite ? 1 : 2;
+  for (int i = 0; i < 4 * layers; ++i) {
+    glm::dvec3 x;
+    if (!meet(f[(i & 1) ? kRight : kLeft], f[(i & 2) ? kTop : kBottom], f[(i & 4) ? kFar : kNear], x))
+      return std::nullopt;
+    h.vertices.push_back(glm::vec3(x));
+  }
+  for (int i = 0; i < 4 * layers; ++i)
+    for (int bit : {1, 2, 4})
+      if (!(i & bit) && (i | bit) < 4 * layers) h.edges.emplace_back(i, i | bit);
+  if (infinite) {
+    // Lateral edges: where adjacent side planes meet, heading away from the near plane.
+    for (int i = 0; i < 4; ++i) {
+      const Plane& lr = f[(i & 1) ? kRight : kLeft];
+      const Plane& bt = f[(i & 2) ? kTop : kBottom];
+      glm::dvec3 r = glm::cross(glm::dvec3(lr.n), glm::dvec3(bt.n));
+      const double s = glm::dot(r, glm::dvec3(f[kNear].n));
+      if (s == 0.0 || glm::length(r) == 0.0) return std::nullopt;
+      if (s < 0.0) r = -r;
+      h.rays.push_back(glm::vec3(r / glm::length(r)));
+      h.ray_edges.emplace_back(i, i);
+    }
+  }
+  return h;
+}
+
+std::array<glm::vec3, 8> obb_corners(const Obb& b) noexcept {
+  std::array<glm::vec3, 8> c;
+  for (int i = 0; i < 8; ++i) {
+    const float s0 = (i & 1) ? b.half.x : -b.half.x;
+    const float s1 = (i & 2) ? b.half.y : -b.half.y;
+    const float s2 = (i & 4) ? b.half.z : -b.half.z;
+    c[static_cast<std::size_t>(i)] = b.center + s0 * b.axes[0] + s1 * b.axes[1] + s2 * b.axes[2];
+  }
+  return c;
+}
+
+bool all_corners_inside(const Frustum& f, const std::array<glm::vec3, 8>& corners) noexcept {
+  for (const Plane& p : f.planes)
+    for (const glm::vec3& v : corners)
+      if (p.eval(v) < 0.0f) return false;
+  return true;
+}
+
+}  // namespace exact_detail
+
+std::optional<FrustumPolyhedron> frustum_polyhedron(const Frustum& f) {
+  if (!is_bounded(f)) return std::nullopt;
+  const auto c = frustum_corners(f);
+  FrustumPolyhedron p;
+  for (std::size_t i = 0; i < 8; ++i) p.corners[i] = glm::vec3(c[i]);
+  return p;
+}
+
+std::optional<glm::vec3> frustum_apex(const Frustum& f) {
+  // Least squares over the four side planes (normalised in double): minimise
+  // sum (n_i . x + d_i)^2, i.e. solve (sum n n^T) x = -sum d n.
+  glm::dmat3 ata(0.0);
+  glm::dvec3 atb(0.0);
+  double scale = 0.0;
+  for (int i : {kLeft, kRight, kBottom, kTop}) {
+    if (f[i].is_degenerate()) return std::nullopt;
+    glm::dvec3 n(f[i].n);
+    const double len = glm::length(n);
+    n /= len;
+    const double d = double(f[i].d) / len;
+    ata += glm::outerProduct(n, n);
+    atb -= d * n;
+    scale = std::max(scale, std::abs(d));
+  }
+  const double det = glm::determinant(ata);
+  // The side normals of a perspective frustum span 3D; an orthographic one's lie in a plane.
+  if (!(std::abs(det) > 1e-9)) return std::nullopt;
+  const glm::dvec3 x = glm::inverse(ata) * atb;
+  if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) return std::nullopt;
+  return glm::vec3(x);
+}
+
+const char* to_string(HoffStage s) noexcept {
+  switch (s) {
+    case HoffStage::trivial_reject: return "trivial-reject";
+    case HoffStage::trivial_accept: return "trivial-accept";
+    case HoffStage::edge_face: return "edge-face";
+    case HoffStage::containment: return "containment";
+    case HoffStage::box_edge_face: return "box-edge-face";
+    case HoffStage::final_reject: return "final-reject";
+  }
+  return "invalid";
+}
+
+}  // namespace cullproof
+
+namespace cullproof::exact_detail {
+
+bool point_in_obb(const glm::vec3& p, const Obb& box) noexcept {
+  const glm::vec3 d = p - box.center;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(glm::dot(d, box.axes[k])) > box.half[k]) return false;
+  return true;
+}
+
+bool segment_hits_obb_face(const glm::vec3& a, const glm::vec3& b, const Obb& box, int k, float s) noexcept {
+  const glm::vec3 n = s * box.axes[k];
+  const glm::vec3 fc = box.center + (s * box.half[k]) * box.axes[k];
+  const float da = glm::dot(a - fc, n), db = glm::dot(b - fc, n);
+  if ((da > 0.0f && db > 0.0f) || (da < 0.0f && db < 0.0f)) return false;
+  const int j = (k + 1) % 3, l = (k + 2) % 3;
+  if (da == 0.0f && db == 0.0f) {
+    // In the face plane: clip the segment (Liang–Barsky) against |x_j| <= h_j, |x_l| <= h_l.
+    float t0 = 0.0f, t1 = 1.0f;
+    for (int m : {j, l}) {
+      const float pa = glm::dot(a - fc, box.axes[m]), pd = glm::dot(b - a, box.axes[m]);
+      for (float side : {1.0f, -1.0f}) {
+        // side * (pa + t pd) <= h
+        const float num = box.half[m] - side * pa, den = side * pd;
+        if (den == 0.0f) {
+          if (num < 0.0f) return false;
+        } else if (den > 0.0f) {
+          t1 = std::min(t1, num / den);
+        } else {
+          t0 = std::max(t0, num / den);
+        }
+      }
+    }
+    return t0 <= t1;
+  }
+  const float t = da / (da - db);
+  const glm::vec3 p = a + t * (b - a);
+  return std::abs(glm::dot(p - fc, box.axes[j])) <= box.half[j] &&
+         std::abs(glm::dot(p - fc, box.axes[l])) <= box.half[l];
+}
+
+bool segment_hits_frustum_face(const glm::vec3& a, const glm::vec3& b, const Frustum& f, int face) noexcept {
+  const Plane& p = f[face];
+  const float da = p.eval(a), db = p.eval(b);
+  if ((da > 0.0f && db > 0.0f) || (da < 0.0f && db < 0.0f)) return false;
+  auto in_others = [&](const glm::vec3& x) {
+    for (int i = 0; i < kPlaneCount; ++i)
+      if (i != face && f[i].eval(x) < 0.0f) return false;
+    return true;
+  };
+  if (da == 0.0f && db == 0.0f) {
+    // In the face plane: clip the segment against the other five half-spaces.
+    float t0 = 0.0f, t1 = 1.0f;
+    for (int i = 0; i < kPlaneCount; ++i) {
+      if (i == face) continue;
+      const float ea = f[i].eval(a), eb = f[i].eval(b);
+      if (ea < 0.0f && eb < 0.0f) return false;
+      if (ea < 0.0f) t0 = std::max(t0, ea / (ea - eb));
+      else if (eb < 0.0f) t1 = std::min(t1, ea / (ea - eb));
+    }
+    return t0 <= t1;
+  }
+  const float t = da / (da - db);
+  return in_others(a + t * (b - a));
+}
+
+}  // namespace cullproof::exact_detail
