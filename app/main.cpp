@@ -2,19 +2,28 @@
 //
 //   cullproof methods [--json]
 //   cullproof classify FILE... [--method NAME ...] [--no-oracle]
+//   cullproof verify [--cases N] [--seed S] [--distribution D ...] [--method M ...] [--threads T]
+//                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
+//   cullproof corpus list|show ID|replay [--dir DIR]
 //
 // Machine interface (keep stable): `methods --json` prints a JSON array of objects with at least
 // name, claim, source, volumes; `classify` prints one JSON object per case and line.
 #include "cullproof/case_io.hpp"
 #include "cullproof/methods.hpp"
 #ifdef CULLPROOF_HAVE_ORACLE
+#include "cullproof/campaign.hpp"
+#include "cullproof/corpus.hpp"
 #include "cullproof/oracle.hpp"
 #endif
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <type_traits>
+#include <variant>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -42,7 +51,8 @@ int cmd_methods(bool as_json) {
                      {"volumes", volume_names(m.volumes)},
                      {"touching", m.touching},
                      {"tolerance", m.tolerance},
-                     {"stateful", m.stateful}});
+                     {"stateful", m.stateful},
+                     {"published", m.published}});
     }
     std::cout << out.dump(2) << "\n";
     return 0;
@@ -99,6 +109,139 @@ int cmd_classify(const std::vector<std::string>& files, const std::vector<std::s
   return 0;
 }
 
+
+#ifdef CULLPROOF_HAVE_ORACLE
+std::string fmt_distance(double d) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", d);
+  return buf;
+}
+
+int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const std::string& json_file) {
+  if (!dists.empty()) {
+    opt.distributions.clear();
+    for (const std::string& d : dists)
+      for (gen::Distribution x : gen::parse_distributions(d))
+        if (std::find(opt.distributions.begin(), opt.distributions.end(), x) == opt.distributions.end())
+          opt.distributions.push_back(x);
+  }
+  const VerifyResult r = run_verify(opt);
+  print_tables(r, std::cout);
+  if (!json_file.empty()) write_file_atomic(json_file, to_json(r).dump(2) + "\n");
+  std::size_t written = 0;
+  for (const auto& d : r.distributions)
+    for (const auto& m : d.methods) written += m.corpus_written.size();
+  if (opt.corpus) std::cout << "corpus: " << written << " new case(s) written under " << opt.corpus->string() << "\n";
+  if (r.own_claim_broken()) {
+    std::cout << "FAILED: a claim of one of cullproof's own methods was refuted (see REFUTED above)\n";
+    return 1;
+  }
+  return 0;
+}
+
+// Where the volume lies relative to each plane: the range of the normalised plane function
+// over the volume, in double.
+std::string describe_planes(const Case& c) {
+  std::string out;
+  for (int i = 0; i < kPlaneCount; ++i) {
+    const Plane& p = c.frustum.planes[i];
+    const std::string name(plane_name(i));
+    if (p.is_degenerate()) {
+      out += "  " + name + ": " + (p.d >= 0 ? "contains all space" : "contains nothing") + "\n";
+      continue;
+    }
+    const glm::dvec3 n(p.n);
+    const double len = glm::length(n);
+    double lo = 0, hi = 0;
+    std::visit(
+        [&](const auto& v) {
+          using T = std::decay_t<decltype(v)>;
+          if constexpr (std::is_same_v<T, Point>) {
+            lo = hi = (glm::dot(n, glm::dvec3(v)) + p.d) / len;
+          } else if constexpr (std::is_same_v<T, Sphere>) {
+            const double s = (glm::dot(n, glm::dvec3(v.center)) + p.d) / len;
+            lo = s - v.radius;
+            hi = s + v.radius;
+          } else {
+            const Obb b = [&] {
+              if constexpr (std::is_same_v<T, Aabb>) return to_obb(v); else return v;
+            }();
+            const double s = (glm::dot(n, glm::dvec3(b.center)) + p.d) / len;
+            double r = 0;
+            for (int a = 0; a < 3; ++a) r += double(b.half[a]) * std::abs(glm::dot(n, glm::dvec3(b.axes[a]))) / len;
+            lo = s - r;
+            hi = s + r;
+          }
+        },
+        c.volume);
+    std::string where = hi < 0 ? "outside, by " + format_float(float(-hi))
+                        : lo > 0 ? "inside, clear by " + format_float(float(lo))
+                        : lo == 0 ? "inside, touching"
+                        : hi == 0 ? "outside, touching"
+                                  : "straddles";
+    out += "  " + name + ": " + where + "  (signed distance " + format_float(float(lo)) + " .. " + format_float(float(hi)) + ")\n";
+  }
+  return out;
+}
+
+int cmd_corpus(const std::string& action, const std::string& dir, const std::string& id) {
+  const std::vector<CorpusEntry> entries = load_corpus(dir);
+  if (action == "list") {
+    std::printf("%-48s %-22s %-16s %-18s %s\n", "id", "method", "class", "distribution", "distance");
+    for (const auto& e : entries) {
+      const auto d = e.c.extra.find("distance");
+      const std::string dist = d != e.c.extra.end() && d->is_number() ? fmt_distance(d->get<double>()) : "-";
+      std::printf("%-48s %-22s %-16s %-18s %s\n", e.c.id.c_str(), e.method.c_str(), to_string(e.error),
+                  e.distribution.c_str(), dist.c_str());
+    }
+    std::printf("%zu cases\n", entries.size());
+    return 0;
+  }
+  if (action == "show") {
+    for (const auto& e : entries) {
+      if (e.c.id != id) continue;
+      std::cout << "file: " << e.file.string() << "\n" << format_case(e.c, true) << "\n";
+      const oracle::Result t = oracle::classify(e.c.frustum, e.c.volume);
+      std::cout << "truth (oracle, now): " << to_string(t.truth) << "  distance " << t.distance << " ("
+                << oracle::to_string(t.distance_kind) << ")\n";
+      std::cout << "verdicts now:\n";
+      for (const Method& m : methods()) {
+        if (!m.takes(e.c.volume)) continue;
+        const auto v = m.classify(e.c.frustum, e.c.volume);
+        if (!v) continue;
+        const ErrorClass cls = error_class(*v, t.truth);
+        std::printf("  %-26s %-13s %s\n", m.name.c_str(), std::string(to_string(*v)).c_str(),
+                    cls == ErrorClass::correct ? "" : to_string(cls));
+      }
+      std::cout << "where the volume lies, plane by plane (normalised):\n" << describe_planes(e.c);
+      std::cout << "witness: " << t.witness.dump() << "\n";
+      return 0;
+    }
+    std::cerr << "cullproof corpus show: no case with id '" << id << "' under " << dir << "\n";
+    return 2;
+  }
+  // replay
+  std::size_t still = 0, fixed = 0, changed = 0, truth_changed = 0, regressed = 0;
+  for (const auto& e : entries) {
+    const ReplayResult r = replay(e);
+    const char* status = r.truth_changed ? "TRUTH CHANGED"
+                         : r.reproduces  ? "still failing"
+                         : r.fixed       ? "fixed"
+                                         : "changed";
+    if (r.truth_changed) ++truth_changed;
+    else if (r.reproduces) ++still;
+    else if (r.fixed) ++fixed;
+    else ++changed;
+    if (!r.regressed.empty()) ++regressed;
+    std::string reg;
+    for (const auto& m : r.regressed) reg += " " + m;
+    std::printf("%-48s %-14s%s%s\n", e.c.id.c_str(), status, reg.empty() ? "" : "  regressed:", reg.c_str());
+  }
+  std::printf("%zu cases: %zu still failing, %zu fixed, %zu changed, %zu with regressions, %zu truth changed\n",
+              entries.size(), still, fixed, changed, regressed, truth_changed);
+  return (truth_changed || regressed) ? 1 : 0;
+}
+#endif
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -116,10 +259,51 @@ int main(int argc, char** argv) {
   classify_cmd->add_option("--method,-m", method_names, "Run only these methods (repeatable)");
   classify_cmd->add_flag("--no-oracle", no_oracle, "Skip the exact oracle (truth, witness, distance)");
 
+#ifdef CULLPROOF_HAVE_ORACLE
+  VerifyOptions vopt;
+  vopt.corpus = std::filesystem::path("corpus");
+  std::vector<std::string> dists;
+  std::string json_file, corpus_dir = "corpus";
+  bool no_corpus = false, no_progress = false;
+  std::uint64_t index = 0;
+  auto* verify_cmd = app.add_subcommand("verify", "The side-by-side verification run: every method and the oracle on generated cases");
+  verify_cmd->add_option("--cases", vopt.cases, "Cases per distribution")->capture_default_str();
+  verify_cmd->add_option("--seed", vopt.seed, "Seed: the same seed gives the same cases and verdicts")->capture_default_str();
+  verify_cmd->add_option("--distribution,-d", dists, "Distributions (repeatable; 'all', 'all-generic', 'all-hard')");
+  verify_cmd->add_option("--method,-m", vopt.methods, "Methods (repeatable; default: all)");
+  verify_cmd->add_option("--threads", vopt.threads, "Worker threads (0: all cores)")->capture_default_str();
+  verify_cmd->add_option("--corpus", corpus_dir, "Write new mismatches under DIR")->capture_default_str();
+  verify_cmd->add_flag("--no-corpus", no_corpus, "Do not write the corpus");
+  verify_cmd->add_option("--json", json_file, "Write the whole result as JSON to FILE");
+  auto* index_opt = verify_cmd->add_option("--index", index, "Run only case INDEX of each distribution (reproduce)");
+  verify_cmd->add_flag("--no-progress", no_progress, "No progress bar");
+
+  std::string corpus_action, corpus_id, corpus_root = "corpus";
+  auto* corpus_cmd = app.add_subcommand("corpus", "Inspect and replay the mismatch corpus");
+  corpus_cmd->add_option("action", corpus_action, "list | show | replay")->required()->check(CLI::IsMember({"list", "show", "replay"}));
+  corpus_cmd->add_option("id", corpus_id, "Case id (for show)");
+  corpus_cmd->add_option("--dir", corpus_root, "Corpus directory")->capture_default_str();
+#endif
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*methods_cmd) return cmd_methods(methods_json);
     if (*classify_cmd) return cmd_classify(files, method_names, no_oracle);
+#ifdef CULLPROOF_HAVE_ORACLE
+    if (*verify_cmd) {
+      vopt.corpus = no_corpus ? std::nullopt : std::optional<std::filesystem::path>(corpus_dir);
+      vopt.progress = !no_progress;
+      if (*index_opt) vopt.only_index = index;
+      return cmd_verify(vopt, dists, json_file);
+    }
+    if (*corpus_cmd) {
+      if (corpus_action == "show" && corpus_id.empty()) {
+        std::cerr << "cullproof corpus show: needs a case id (see 'cullproof corpus list')\n";
+        return 2;
+      }
+      return cmd_corpus(corpus_action, corpus_root, corpus_id);
+    }
+#endif
   } catch (const CaseError& e) {
     std::cerr << "cullproof: " << e.what() << "\n";
     return 2;

@@ -23,6 +23,7 @@ std::vector<Method> build() {
   std::vector<Method> out;
   detail::register_cull_methods(out);
   detail::register_exact_methods(out);
+  detail::register_certified_methods(out);
   std::set<std::string> seen;
   for (const Method& m : out) {
     if (!seen.insert(m.name).second)

@@ -38,10 +38,13 @@ struct Method {
   unsigned volumes = 0;     ///< VolumeKind bits this method takes
   std::string touching;     ///< how a volume touching a plane is classified
   /// For `conservative` / `exact` claims: float errors are allowed only on cases whose exact
-  /// distance to the frustum boundary is at most `tolerance` times the case's scale (the largest
-  /// magnitude among the case's coordinates and plane offsets). 0 for certified claims.
+  /// distance to the frustum boundary is at most `tolerance` times the case's scale (what the
+  /// plane evaluations round, in distance units; gen::case_scale). 0 for certified claims.
   double tolerance = 0.0;
   bool stateful = false;    ///< a frame-coherent culler; classify runs it with a fresh state
+  /// A published method under test (its text's claim is checked and may be refuted: reported,
+  /// not an error) rather than one of cullproof's own, whose broken claim fails the run.
+  bool published = true;
   /// Classifies one volume. Returns std::nullopt when the method does not apply to this frustum
   /// (e.g. the octant test on an asymmetric frustum); the caller leaves it out of its verdicts.
   /// Called only with volume kinds listed in `volumes`.
@@ -59,6 +62,7 @@ namespace detail {
 // Each family of methods registers itself from its own file (see src/methods.cpp).
 void register_cull_methods(std::vector<Method>& out);   // src/cull/
 void register_exact_methods(std::vector<Method>& out);  // src/exact/
+void register_certified_methods(std::vector<Method>& out);  // src/certified/
 }  // namespace detail
 
 }  // namespace cullproof

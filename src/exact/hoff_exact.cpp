@@ -16,7 +16,8 @@
 //     whole frustum but not the eye is rejected by hoff96. Any frustum vertex works.
 //  3. Box geometry as given: faces, edges and the point-in-box test use the parallelepiped of the
 //     float values (dual basis), not the assumption that the axes are orthonormal.
-// Needs a bounded frustum (nullopt otherwise). Touching is intersecting (closed tests).
+// Needs a bounded frustum with frustum topology (nullopt otherwise). Touching is intersecting
+// (closed tests).
 #include "cullproof/exact.hpp"
 
 #include "hull.hpp"
@@ -85,6 +86,10 @@ bool segment_hits_local_face(const glm::vec3& a, const glm::vec3& b, const glm::
 std::optional<Visibility> hoff_exact(const Frustum& f, const Obb& b, HoffStage* stage) {
   const auto poly = frustum_polyhedron(f);
   if (!poly) return std::nullopt;
+  // The corner triples must be the polytope's vertices (not so when nearly parallel planes
+  // cross between near and far): otherwise the edge and face tests look at the wrong solid.
+  const auto hull = frustum_hull(f);
+  if (!hull || hull->empty) return hull && hull->empty ? std::optional<Visibility>(Visibility::outside) : std::nullopt;
   auto end = [&](HoffStage s, Visibility v) {
     if (stage) *stage = s;
     return v;

@@ -33,12 +33,15 @@ std::optional<FrustumHull> frustum_hull(const Frustum& f) {
     if (f[i].is_degenerate() && i != kFar) return std::nullopt;
   const bool infinite = f[kFar].is_degenerate();
   const int layers = infinite ? 1 : 2;
+  std::vector<glm::dvec3> exact_corners;
   for (int i = 0; i < 4 * layers; ++i) {
     glm::dvec3 x;
     if (!meet(f[(i & 1) ? kRight : kLeft], f[(i & 2) ? kTop : kBottom], f[(i & 4) ? kFar : kNear], x))
       return std::nullopt;
+    exact_corners.push_back(x);
     h.vertices.push_back(glm::vec3(x));
   }
+  if (!has_frustum_topology(f, exact_corners)) return std::nullopt;
   for (int i = 0; i < 4 * layers; ++i)
     for (int bit : {1, 2, 4})
       if (!(i & bit) && (i | bit) < 4 * layers) h.edges.emplace_back(i, i | bit);
@@ -56,6 +59,20 @@ std::optional<FrustumHull> frustum_hull(const Frustum& f) {
     }
   }
   return h;
+}
+
+bool has_frustum_topology(const Frustum& f, const std::vector<glm::dvec3>& corners) {
+  for (const Plane& p : f.planes) {
+    if (p.is_degenerate()) continue;
+    const glm::dvec3 n(p.n);
+    const double len = glm::length(n);
+    for (const glm::dvec3& c : corners) {
+      const double s = (glm::dot(n, c) + double(p.d)) / len;
+      const double mag = glm::length(c) + std::abs(double(p.d)) / len;
+      if (s < -1e-10 * mag) return false;
+    }
+  }
+  return true;
 }
 
 std::array<glm::vec3, 8> obb_corners(const Obb& b) noexcept {

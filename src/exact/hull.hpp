@@ -22,7 +22,13 @@ struct FrustumHull {
 };
 
 /// Vertices/rays of a frustum with frustum topology (left/right x bottom/top x near/far). The
-/// far plane may be "all space". nullopt when another plane is degenerate or triples do not meet.
+/// far plane may be "all space". nullopt when another plane is degenerate, triples do not meet,
+/// or the six planes do not have frustum topology (a computed corner lies outside another
+/// plane by more than rounding: e.g. nearly parallel side planes that cross before the far
+/// plane, so the polytope's vertices are not the eight corner triples).
+/// Whether the eight corner triples of `f` (double) are the vertices of the polytope: each
+/// satisfies every plane to within 1e-6 of the magnitudes involved.
+bool has_frustum_topology(const Frustum& f, const std::vector<glm::dvec3>& corners);
 std::optional<FrustumHull> frustum_hull(const Frustum& f);
 
 /// The eight corners of an OBB, index bits: bit k set = +h_k along u_k.

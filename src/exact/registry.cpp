@@ -40,6 +40,7 @@ void register_exact_methods(std::vector<Method>& out) {
   {
     Method m;
     m.name = "hoff-exact";
+    m.published = false;
     m.description = "Hoff's structure completed: adds OBB edges x frustum faces and frustum corners in the OBB";
     m.source = "Hoff 1996 + convex-polyhedra vertex/edge-face characterisation (src/exact/hoff_exact.cpp)";
     m.claim = Claim::exact;
@@ -55,6 +56,7 @@ void register_exact_methods(std::vector<Method>& out) {
   {
     Method m;
     m.name = "sat-exact";
+    m.published = false;
     m.description = "Separating axes in float: box and frustum face normals, box x frustum edge cross products";
     m.source = "Gottschalk, Lin & Manocha 1996 §4 (separating axis theorem); Eberly 2001";
     m.claim = Claim::exact;
@@ -70,6 +72,7 @@ void register_exact_methods(std::vector<Method>& out) {
   {
     Method m;
     m.name = "pn-vertex-reverse";
+    m.published = false;
     m.description = "n/p-vertex test, then the frustum's corners against the box's face planes";
     m.source = "p-vertex post, readers' comments 5-6; Assarsson & Möller 2000 §3.1 for the forward stage";
     m.claim = Claim::conservative;

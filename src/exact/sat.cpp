@@ -28,7 +28,9 @@ using namespace exact_detail;
 
 namespace {
 
-bool separated_on(const glm::vec3& a, const FrustumHull& h, const Obb& b) {
+// `skip_ray`: a ray lying along the axis's own frustum edge (its projection is zero in exact
+// arithmetic; rounding would make it +-tiny and the range unbounded on a random side).
+bool separated_on(const glm::vec3& a, const FrustumHull& h, const Obb& b, int skip_ray = -1) {
   if (a.x == 0.0f && a.y == 0.0f && a.z == 0.0f) return false;
   float fmin = std::numeric_limits<float>::infinity(), fmax = -fmin;
   for (const glm::vec3& p : h.vertices) {
@@ -36,8 +38,9 @@ bool separated_on(const glm::vec3& a, const FrustumHull& h, const Obb& b) {
     fmin = std::min(fmin, x);
     fmax = std::max(fmax, x);
   }
-  for (const glm::vec3& r : h.rays) {
-    const float x = glm::dot(r, a);
+  for (std::size_t i = 0; i < h.rays.size(); ++i) {
+    if (int(i) == skip_ray) continue;
+    const float x = glm::dot(h.rays[i], a);
     if (x > 0.0f) fmax = std::numeric_limits<float>::infinity();
     if (x < 0.0f) fmin = -std::numeric_limits<float>::infinity();
   }
@@ -54,19 +57,31 @@ std::optional<bool> sat_separated(const Frustum& f, const Obb& b) {
   // Box face normals.
   for (int k = 0; k < 3; ++k)
     if (separated_on(glm::cross(b.axes[(k + 1) % 3], b.axes[(k + 2) % 3]), *hull, b)) return true;
-  // Frustum face normals (a degenerate all-space far plane has none).
-  for (const Plane& p : f.planes)
-    if (!p.is_degenerate() && separated_on(p.n, *hull, b)) return true;
+  // Frustum face normals (a degenerate all-space far plane has none). The frustum lies in the
+  // plane's half-space by definition, so on this axis its range starts at -d exactly: the box is
+  // separated when it lies wholly outside the plane. (Projecting the vertices and rays instead
+  // would make the range unbounded whenever a ray lying in the plane rounds to a negative dot.)
+  for (const Plane& p : f.planes) {
+    if (p.is_degenerate()) continue;
+    if (p.eval(b.center) + obb_radius(b, p.n) < 0.0f) return true;
+    if (separated_on(p.n, *hull, b)) return true;
+  }
   // Edge x edge.
   std::vector<glm::vec3> dirs;
-  for (const auto& [i, j] : hull->edges)
+  std::vector<int> ray_of;  // the ray index a direction comes from, or -1
+  for (const auto& [i, j] : hull->edges) {
     dirs.push_back(hull->vertices[static_cast<std::size_t>(j)] - hull->vertices[static_cast<std::size_t>(i)]);
-  for (const glm::vec3& r : hull->rays) dirs.push_back(r);
+    ray_of.push_back(-1);
+  }
+  for (std::size_t r = 0; r < hull->rays.size(); ++r) {
+    dirs.push_back(hull->rays[r]);
+    ray_of.push_back(int(r));
+  }
   for (int k = 0; k < 3; ++k)
-    for (const glm::vec3& e : dirs) {
-      const glm::vec3 a = glm::cross(b.axes[k], e);
-      if (glm::length(a) <= 1e-6f * glm::length(b.axes[k]) * glm::length(e)) continue;
-      if (separated_on(a, *hull, b)) return true;
+    for (std::size_t e = 0; e < dirs.size(); ++e) {
+      const glm::vec3 a = glm::cross(b.axes[k], dirs[e]);
+      if (glm::length(a) <= 1e-6f * glm::length(b.axes[k]) * glm::length(dirs[e])) continue;
+      if (separated_on(a, *hull, b, ray_of[e])) return true;
     }
   return false;
 }

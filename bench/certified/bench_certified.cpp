@@ -1,0 +1,109 @@
+// What certification costs: each certified test next to its plain float twin, on the same
+// random near-frustum volumes, with the per-frame preparation (plane normalisation, certified
+// bounds) done once outside the timed loop, as a culler does it per frame.
+#include "cullproof/certified.hpp"
+#include "cullproof/cull.hpp"
+#include "cullproof/exact.hpp"
+#include "cullproof/frustum_build.hpp"
+
+#include <benchmark/benchmark.h>
+#include <glm/gtc/quaternion.hpp>
+
+#include <random>
+#include <vector>
+
+using namespace cullproof;
+
+namespace {
+
+constexpr std::size_t kCount = 4096;
+
+struct Data {
+  glm::mat4 vp;
+  Frustum planes, normalized;
+  CertifiedFrustum cert;
+  std::vector<Aabb> aabbs;
+  std::vector<Obb> obbs;
+  std::vector<Sphere> spheres;
+};
+
+// A camera 40 units from the origin; volumes of size 0.05..2 placed within a few sizes of a
+// random frustum face (so every branch of the tests is taken).
+const Data& data() {
+  static const Data d = [] {
+    Data x;
+    PerspectiveCamera cam;
+    cam.eye = {30.0f, 20.0f, 18.0f};
+    cam.target = {0.0f, 0.0f, 0.0f};
+    cam.fovy_degrees = 60.0f;
+    cam.aspect = 1.6f;
+    cam.near_dist = 0.5f;
+    cam.far_dist = 200.0f;
+    x.vp = view_projection(cam);
+    x.planes = frustum_from_matrix(x.vp);
+    x.normalized = x.planes.normalized();
+    x.cert = certify_matrix(x.vp);
+    const auto corners = frustum_corners(x.planes);
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (std::size_t i = 0; i < kCount; ++i) {
+      // A point on a random face edge region: mix of corners, pushed out or in.
+      const int a = int(u(rng) * 8) & 7, b = a ^ (1 << (int(u(rng) * 3) % 3));
+      glm::dvec3 p = glm::mix(corners[std::size_t(a)], corners[std::size_t(b)], u(rng));
+      p = glm::mix(p, frustum_center(x.planes), 0.3 * u(rng));
+      const float s = float(0.05 + 2.0 * u(rng));
+      const glm::vec3 c(p);
+      x.aabbs.push_back(Aabb{c - glm::vec3(s), c + glm::vec3(s * 0.7f)});
+      const glm::quat q = glm::normalize(glm::quat(float(u(rng) - 0.5), float(u(rng) - 0.5), float(u(rng) - 0.5), float(u(rng) - 0.5)));
+      x.obbs.push_back(Obb{c, glm::mat3_cast(q), glm::vec3(s, s * 0.5f, s * 0.8f)});
+      x.spheres.push_back(Sphere{c, s});
+    }
+    return x;
+  }();
+  return d;
+}
+
+template <class F>
+void run(benchmark::State& state, F&& f) {
+  unsigned sink = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kCount; ++i) sink += unsigned(f(i));
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(kCount));
+  state.counters["ns_per_test"] =
+      benchmark::Counter(double(kCount), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+void BM_aabb_pn_vertex(benchmark::State& s) { run(s, [](std::size_t i) { return pn_vertex(data().planes, data().aabbs[i]); }); }
+void BM_aabb_pn_vertex_certified(benchmark::State& s) {
+  run(s, [](std::size_t i) { return certified_pn_vertex(data().cert, data().aabbs[i]); });
+}
+void BM_obb_pn_vertex(benchmark::State& s) { run(s, [](std::size_t i) { return obb_pn_vertex(data().planes, data().obbs[i]); }); }
+void BM_obb_pn_vertex_certified(benchmark::State& s) {
+  run(s, [](std::size_t i) { return certified_obb_pn_vertex(data().cert, data().obbs[i]); });
+}
+void BM_sphere_plane(benchmark::State& s) {
+  run(s, [](std::size_t i) { return sphere_plane_test(data().normalized, data().spheres[i]); });
+}
+void BM_sphere_certified(benchmark::State& s) {
+  run(s, [](std::size_t i) { return certified_sphere(data().cert, data().spheres[i]); });
+}
+void BM_sat_exact(benchmark::State& s) {
+  run(s, [](std::size_t i) { return *sat_classify(data().planes, data().obbs[i]); });
+}
+void BM_sat_certified(benchmark::State& s) {
+  run(s, [](std::size_t i) { return *certified_sat(data().cert, data().obbs[i]); });
+}
+
+}  // namespace
+
+BENCHMARK(BM_aabb_pn_vertex);
+BENCHMARK(BM_aabb_pn_vertex_certified);
+BENCHMARK(BM_obb_pn_vertex);
+BENCHMARK(BM_obb_pn_vertex_certified);
+BENCHMARK(BM_sphere_plane);
+BENCHMARK(BM_sphere_certified);
+BENCHMARK(BM_sat_exact);
+BENCHMARK(BM_sat_certified);
+BENCHMARK_MAIN();

@@ -1,0 +1,449 @@
+// The verification run (see cullproof/campaign.hpp).
+#include "cullproof/campaign.hpp"
+
+#include "cullproof/case_io.hpp"
+#include "cullproof/corpus.hpp"
+#include "cullproof/oracle.hpp"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <unistd.h>
+
+namespace cullproof {
+
+const char* to_string(ErrorClass e) noexcept {
+  switch (e) {
+    case ErrorClass::correct: return "correct";
+    case ErrorClass::false_reject: return "false-reject";
+    case ErrorClass::false_inside: return "false-inside";
+    case ErrorClass::false_intersect: return "false-intersect";
+    case ErrorClass::under_inside: return "under-inside";
+  }
+  return "invalid";
+}
+
+ErrorClass error_class(Visibility verdict, Visibility truth) noexcept {
+  if (verdict == truth) return ErrorClass::correct;
+  if (verdict == Visibility::outside) return ErrorClass::false_reject;
+  if (verdict == Visibility::inside) return ErrorClass::false_inside;
+  return truth == Visibility::outside ? ErrorClass::false_intersect : ErrorClass::under_inside;
+}
+
+bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale) noexcept {
+  if (e == ErrorClass::correct) return false;
+  const bool hard = e == ErrorClass::false_reject || e == ErrorClass::false_inside;
+  const bool within = distance <= tolerance * scale;
+  switch (claim) {
+    case Claim::certified_conservative: return hard;
+    case Claim::certified_exact: return hard || !within;
+    case Claim::conservative: return hard && !within;
+    case Claim::exact: return !within;
+    case Claim::none: return false;
+  }
+  return false;
+}
+
+bool VerifyResult::own_claim_broken() const noexcept {
+  for (const auto& d : distributions)
+    for (const auto& m : d.methods)
+      if (!m.published && m.refuted()) return true;
+  return false;
+}
+
+std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept {
+  if (n == 0) return {0.0, 0.0};
+  const double z = 1.959963984540054, p = double(k) / double(n), nn = double(n);
+  const double denom = 1 + z * z / nn, centre = (p + z * z / (2 * nn)) / denom;
+  const double half = z * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn)) / denom;
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using gen::GenCase;
+
+// Progress bar on stderr: a redrawn line on a terminal, a line per 10% otherwise.
+class Progress {
+ public:
+  Progress(bool on, std::uint64_t total) : on_(on), total_(total), tty_(::isatty(2) != 0) {
+    if (on_) thread_ = std::thread([this] { loop(); });
+  }
+  ~Progress() { finish(); }
+  void add(std::uint64_t n) { done_.fetch_add(n, std::memory_order_relaxed); }
+  void label(std::string s) {
+    std::lock_guard<std::mutex> g(m_);
+    label_ = std::move(s);
+  }
+  void finish() {
+    if (!thread_.joinable()) return;
+    {
+      std::lock_guard<std::mutex> g(m_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+    draw(true);
+  }
+
+ private:
+  void loop() {
+    std::unique_lock<std::mutex> g(m_);
+    while (!stop_) {
+      cv_.wait_for(g, std::chrono::milliseconds(tty_ ? 200 : 1000));
+      if (stop_) break;
+      g.unlock();
+      draw(false);
+      g.lock();
+    }
+  }
+  void draw(bool last) {
+    const std::uint64_t d = std::min(done_.load(), total_);
+    const double f = total_ ? double(d) / double(total_) : 1.0;
+    const double secs = std::chrono::duration<double>(Clock::now() - start_).count();
+    std::string lbl;
+    {
+      std::lock_guard<std::mutex> g(m_);
+      lbl = label_;
+    }
+    if (tty_) {
+      const int w = 30, filled = int(f * w);
+      std::cerr << fmt::format("\r[{}{}] {:5.1f}% {}/{} cases {:.0f}s {:<24}", std::string(filled, '#'),
+                               std::string(w - filled, '.'), 100 * f, d, total_, secs, lbl)
+                << (last ? "\n" : "") << std::flush;
+    } else {
+      const int decile = int(f * 10);
+      if (decile > last_decile_ || last) {
+        last_decile_ = decile;
+        std::cerr << fmt::format("verify: {:3.0f}% ({}/{} cases, {:.0f}s) {}\n", 100 * f, d, total_, secs, lbl);
+      }
+    }
+  }
+  bool on_;
+  std::uint64_t total_;
+  bool tty_;
+  std::atomic<std::uint64_t> done_{0};
+  std::mutex m_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+  std::string label_;
+  int last_decile_ = -1;
+  Clock::time_point start_ = Clock::now();
+  std::thread thread_;
+};
+
+struct CaseOutcome {
+  Visibility truth{};
+  std::vector<std::int8_t> verdict;  // -1: method does not apply; else Visibility
+};
+
+std::vector<const Method*> select_methods(const std::vector<std::string>& names) {
+  std::vector<const Method*> out;
+  if (names.empty()) {
+    for (const Method& m : methods()) out.push_back(&m);
+    return out;
+  }
+  for (const std::string& n : names) {
+    const Method* m = find_method(n);
+    if (!m) {
+      std::string known;
+      for (const Method& k : methods()) known += (known.empty() ? "" : ", ") + k.name;
+      throw std::invalid_argument("unknown method '" + n + "' (known: " + known + ")");
+    }
+    out.push_back(m);
+  }
+  return out;
+}
+
+std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
+  if (!m.takes(c.volume)) return std::nullopt;
+  return m.classify(c.frustum, c.volume);
+}
+
+// Shrinks a mismatch: the simplest case of the Shrinkable tree on which `m` still makes an error
+// of class `cls`, within `budget` oracle calls.
+GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, int budget) {
+  rc::Shrinkable<gen::GenCase> cur = start;
+  bool progress = true;
+  while (progress && budget > 0) {
+    progress = false;
+    auto seq = cur.shrinks();
+    while (auto next = seq.next()) {
+      if (--budget <= 0) break;
+      const GenCase c = next->value();
+      try {
+        validate(c.volume);
+        const auto v = run_method(m, c);
+        if (!v) continue;
+        if (error_class(*v, oracle::truth(c.frustum, c.volume)) == cls) {
+          cur = *next;
+          progress = true;
+          break;
+        }
+      } catch (const std::exception&) {
+        continue;  // an invalid shrink (e.g. a degenerate axis): not a candidate
+      }
+    }
+  }
+  return cur.value();
+}
+
+std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const std::string& method) {
+  return fmt::format("cullproof verify --seed {} --distribution {} --index {} --method {}", seed,
+                     gen::to_string(d), index, method);
+}
+
+// Writes one corpus case; returns its id, or "" when the same geometry is already recorded.
+std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g, const Method& m, Visibility verdict,
+                              gen::Distribution d, std::uint64_t seed, std::uint64_t index,
+                              const std::vector<const Method*>& all) {
+  const oracle::Result r = oracle::classify(g.frustum, g.volume);
+  const ErrorClass cls = error_class(verdict, r.truth);
+  const std::string hash = geometry_hash(g.frustum, g.volume);
+  Case c;
+  c.id = fmt::format("{}-{}-{}", m.name, to_string(cls), hash);
+  c.frustum = g.frustum;
+  c.volume = g.volume;
+  c.truth = r.truth;
+  c.note = fmt::format("{} says {} where the truth is {} ({}); found by the {} distribution", m.name,
+                       to_string(verdict), to_string(r.truth), to_string(cls), gen::to_string(d));
+  nlohmann::json& x = c.extra;
+  x["method"] = m.name;
+  x["verdict"] = std::string(to_string(verdict));
+  x["class"] = to_string(cls);
+  x["claim"] = std::string(to_string(m.claim));
+  const double scale = gen::case_scale(g.frustum, g.volume);
+  x["violates_claim"] = violates_claim(m.claim, cls, r.distance, m.tolerance, scale);
+  x["distribution"] = std::string(gen::to_string(d));
+  x["distance"] = std::isfinite(r.distance) ? nlohmann::json(r.distance) : nlohmann::json(nullptr);
+  x["distance_kind"] = oracle::to_string(r.distance_kind);
+  x["scale"] = scale;
+  x["scene_size"] = g.scene_size;
+  x["witness"] = r.witness;
+  x["seed"] = seed;
+  x["index"] = index;
+  x["reproduce"] = reproduce_command(seed, d, index, m.name);
+  nlohmann::json verdicts = nlohmann::json::object();
+  for (const Method* o : all)
+    if (o->takes(g.volume))
+      if (auto v = o->classify(g.frustum, g.volume)) verdicts[o->name] = std::string(to_string(*v));
+  x["verdicts"] = verdicts;
+  const auto file = dir / m.name / gen::to_string(d) / fmt::format("{}-{}.json", to_string(cls), hash);
+  if (std::filesystem::exists(file)) return "";
+  try {
+    write_case_file(file, c, /*overwrite=*/false);
+  } catch (const std::runtime_error&) {
+    if (std::filesystem::exists(file)) return "";  // written meanwhile: the same geometry
+    throw;
+  }
+  return c.id;
+}
+
+double time_method(const Method& m, const std::vector<GenCase>& cases) {
+  std::vector<const GenCase*> mine;
+  for (const GenCase& c : cases)
+    if (m.takes(c.volume)) mine.push_back(&c);
+  if (mine.empty()) return 0.0;
+  std::uint64_t calls = 0;
+  unsigned sink = 0;
+  const auto t0 = Clock::now();
+  double secs = 0.0;
+  do {
+    for (const GenCase* c : mine) {
+      const auto v = m.classify(c->frustum, c->volume);
+      sink += v ? unsigned(*v) : 3u;
+    }
+    calls += mine.size();
+    secs = std::chrono::duration<double>(Clock::now() - t0).count();
+  } while (secs < 0.02);
+  static std::atomic<unsigned> keep{0};
+  keep += sink;  // keeps the calls from being optimised away
+  return secs * 1e9 / double(calls);
+}
+
+}  // namespace
+
+VerifyResult run_verify(const VerifyOptions& opt) {
+  const auto t_start = Clock::now();
+  const std::vector<const Method*> ms = select_methods(opt.methods);
+  const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+
+  VerifyResult result;
+  result.options = opt;
+  const std::uint64_t per = opt.only_index ? 1 : opt.cases;
+  Progress progress(opt.progress, per * opt.distributions.size());
+
+  for (gen::Distribution d : opt.distributions) {
+    progress.label(std::string(gen::to_string(d)));
+    const std::uint64_t first = opt.only_index ? *opt.only_index : 0;
+    std::vector<GenCase> cases(per);
+    std::vector<CaseOutcome> out(per);
+    const auto st0 = oracle::stats();
+    // RapidCheck's generation context is process-global (not thread-safe): cases are drawn on
+    // this thread, the oracle and the methods run in parallel.
+    for (std::uint64_t i = 0; i < per; ++i) {
+      cases[i] = gen::draw(d, opt.seed, first + i).value();
+      validate(cases[i].volume);
+    }
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
+      for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
+        out[i].truth = oracle::truth(cases[i].frustum, cases[i].volume);
+        out[i].verdict.resize(ms.size());
+        for (std::size_t k = 0; k < ms.size(); ++k) {
+          const auto v = run_method(*ms[k], cases[i]);
+          out[i].verdict[k] = v ? std::int8_t(*v) : std::int8_t(-1);
+        }
+      }
+      progress.add(r.size());
+    });
+    const auto st1 = oracle::stats();
+
+    DistributionResult dr;
+    dr.distribution = d;
+    dr.cases = per;
+    dr.oracle_calls = st1.calls - st0.calls;
+    dr.oracle_fallbacks = st1.fallbacks - st0.fallbacks;
+    for (std::size_t k = 0; k < ms.size(); ++k) {
+      const Method& m = *ms[k];
+      MethodStats s;
+      s.method = m.name;
+      s.claim = m.claim;
+      s.published = m.published;
+      std::map<ErrorClass, int> written;
+      for (std::uint64_t i = 0; i < per; ++i) {
+        if (out[i].verdict[k] < 0) continue;
+        const Visibility v = Visibility(out[i].verdict[k]), t = out[i].truth;
+        ++s.cases;
+        (t == Visibility::outside ? s.truth_outside : t == Visibility::inside ? s.truth_inside : s.truth_intersecting)++;
+        const ErrorClass cls = error_class(v, t);
+        if (cls == ErrorClass::correct) continue;
+        switch (cls) {
+          case ErrorClass::false_reject: ++s.false_reject; break;
+          case ErrorClass::false_inside: ++s.false_inside; break;
+          case ErrorClass::false_intersect: ++s.false_intersect; break;
+          case ErrorClass::under_inside: ++s.under_inside; break;
+          default: break;
+        }
+        // Errors are rare next to correct answers: the distance (an exact QP for outside
+        // volumes) is computed only for them.
+        const oracle::Result r = oracle::classify(cases[i].frustum, cases[i].volume,
+                                                  oracle::Options{true, true, false});
+        const double scale = gen::case_scale(cases[i].frustum, cases[i].volume);
+        const bool violation = violates_claim(m.claim, cls, r.distance, m.tolerance, scale);
+        if (violation) ++s.claim_violations;
+        if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(r.distance / cases[i].scene_size);
+        // Corpus: claim violations first-class; other errors sampled per class.
+        if (opt.corpus && (violation || written[cls] < opt.corpus_per_class)) {
+          if (!violation && written[cls] >= opt.corpus_per_class) continue;
+          if (violation && written[cls] >= 4 * opt.corpus_per_class) continue;
+          ++written[cls];
+          const GenCase small = shrink(gen::draw(d, opt.seed, first + i), m, cls, opt.shrink_budget);
+          const auto vs = run_method(m, small);
+          if (!vs) continue;
+          const std::string id = write_corpus_case(*opt.corpus, small, m, *vs, d, opt.seed, first + i, ms);
+          if (!id.empty()) s.corpus_written.push_back(id);
+        }
+      }
+      if (opt.timing) s.ns_per_test = time_method(m, cases);
+      dr.methods.push_back(std::move(s));
+    }
+    result.distributions.push_back(std::move(dr));
+  }
+  progress.finish();
+  result.wall_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+  return result;
+}
+
+namespace {
+
+std::string pct(double x) {
+  if (x == 0.0) return "0";
+  if (x < 1e-4) return fmt::format("{:.1e}", x * 100);
+  return fmt::format("{:.3g}", x * 100);
+}
+
+std::string median_max(std::vector<double> v) {
+  if (v.empty()) return "-";
+  std::sort(v.begin(), v.end());
+  return fmt::format("{:.2g} / {:.2g}", v[v.size() / 2], v.back());
+}
+
+}  // namespace
+
+void print_tables(const VerifyResult& r, std::ostream& out) {
+  for (const auto& d : r.distributions) {
+    out << fmt::format("\n## {} ({} cases: {}; oracle fallback to exact LP {:.1f}%)\n\n", gen::to_string(d.distribution),
+                       d.cases, gen::describe(d.distribution),
+                       d.oracle_calls ? 100.0 * double(d.oracle_fallbacks) / double(d.oracle_calls) : 0.0);
+    out << "| method | claim | cases | false rejects | false inside | false-intersect % (95% CI) | under-inside % | FI distance / scene (median / max) | ns/test |\n";
+    out << "|---|---|---:|---:|---:|---|---:|---|---:|\n";
+    for (const auto& m : d.methods) {
+      const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
+      const std::string status = m.claim == Claim::none ? "none"
+                                 : m.refuted() ? fmt::format("{} REFUTED ({})", to_string(m.claim), m.claim_violations)
+                                               : fmt::format("{} held", to_string(m.claim));
+      out << fmt::format("| {} | {}{} | {} | {} | {} | {} ({}-{}) | {} | {} | {:.1f} |\n", m.method, status,
+                         m.published ? "" : " *", m.cases, m.false_reject, m.false_inside,
+                         pct(m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0), pct(lo),
+                         pct(hi), pct(m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0),
+                         median_max(m.fi_distance), m.ns_per_test);
+    }
+  }
+  out << fmt::format("\n* cullproof's own method (a refuted claim fails the run); the others are published methods under test.\n");
+  out << fmt::format("false-intersect % = false intersects / volumes truly outside; under-inside % = / volumes truly inside.\n");
+  out << fmt::format("wall time {:.1f} s\n", r.wall_seconds);
+}
+
+nlohmann::json to_json(const VerifyResult& r) {
+  nlohmann::json j;
+  j["seed"] = r.options.seed;
+  j["cases_per_distribution"] = r.options.only_index ? 1 : r.options.cases;
+  j["wall_seconds"] = r.wall_seconds;
+  j["own_claim_broken"] = r.own_claim_broken();
+  for (const auto& d : r.distributions) {
+    nlohmann::json jd;
+    jd["distribution"] = std::string(gen::to_string(d.distribution));
+    jd["cases"] = d.cases;
+    jd["oracle_calls"] = d.oracle_calls;
+    jd["oracle_fallbacks"] = d.oracle_fallbacks;
+    for (const auto& m : d.methods) {
+      const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
+      std::vector<double> dist = m.fi_distance;
+      std::sort(dist.begin(), dist.end());
+      jd["methods"].push_back({{"method", m.method},
+                               {"claim", std::string(to_string(m.claim))},
+                               {"published", m.published},
+                               {"refuted", m.refuted()},
+                               {"claim_violations", m.claim_violations},
+                               {"cases", m.cases},
+                               {"truth", {{"outside", m.truth_outside}, {"intersecting", m.truth_intersecting}, {"inside", m.truth_inside}}},
+                               {"false_reject", m.false_reject},
+                               {"false_inside", m.false_inside},
+                               {"false_intersect", m.false_intersect},
+                               {"under_inside", m.under_inside},
+                               {"false_intersect_rate", m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0},
+                               {"false_intersect_rate_ci95", {lo, hi}},
+                               {"under_inside_rate", m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0},
+                               {"fi_distance_median", dist.empty() ? nlohmann::json(nullptr) : nlohmann::json(dist[dist.size() / 2])},
+                               {"fi_distance_max", dist.empty() ? nlohmann::json(nullptr) : nlohmann::json(dist.back())},
+                               {"ns_per_test", m.ns_per_test},
+                               {"corpus_written", m.corpus_written}});
+    }
+    j["distributions"].push_back(jd);
+  }
+  return j;
+}
+
+}  // namespace cullproof

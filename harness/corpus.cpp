@@ -1,0 +1,88 @@
+// The mismatch corpus (see cullproof/corpus.hpp).
+#include "cullproof/corpus.hpp"
+
+#include "cullproof/oracle.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace cullproof {
+
+std::string geometry_hash(const CaseFrustum& f, const Volume& v) {
+  const std::string text = format_frustum(f) + "|" + format_volume(v);
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char ch : text) {
+    h ^= ch;
+    h *= 0x100000001b3ull;
+  }
+  return fmt::format("{:012x}", h & 0xffffffffffffull);
+}
+
+namespace {
+
+ErrorClass class_from_string(const std::string& s, const std::string& file) {
+  for (ErrorClass e : {ErrorClass::correct, ErrorClass::false_reject, ErrorClass::false_inside,
+                       ErrorClass::false_intersect, ErrorClass::under_inside})
+    if (s == to_string(e)) return e;
+  throw std::runtime_error(file + ": field 'class': unknown error class \"" + s + "\"");
+}
+
+std::string need_string(const nlohmann::json& x, const char* key, const std::string& file) {
+  auto it = x.find(key);
+  if (it == x.end() || !it->is_string())
+    throw std::runtime_error(file + ": field '" + key + "': missing (a corpus case records it as a string)");
+  return it->get<std::string>();
+}
+
+}  // namespace
+
+std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  if (std::filesystem::exists(dir))
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+      if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  std::vector<CorpusEntry> out;
+  for (const auto& file : files) {
+    CorpusEntry e;
+    e.file = file;
+    e.c = read_case_file(file);
+    const std::string f = file.string();
+    if (!e.c.truth) throw std::runtime_error(f + ": field 'truth': missing (a corpus case records the truth)");
+    e.method = need_string(e.c.extra, "method", f);
+    try {
+      e.verdict = visibility_from_string(need_string(e.c.extra, "verdict", f));
+    } catch (const std::invalid_argument& ex) {
+      throw std::runtime_error(f + ": field 'verdict': " + ex.what());
+    }
+    e.error = class_from_string(need_string(e.c.extra, "class", f), f);
+    e.distribution = need_string(e.c.extra, "distribution", f);
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+ReplayResult replay(const CorpusEntry& e) {
+  ReplayResult r;
+  r.entry = &e;
+  r.truth_now = oracle::truth(e.c.frustum, e.c.volume);
+  r.truth_changed = r.truth_now != *e.c.truth;
+  if (const Method* m = find_method(e.method); m && m->takes(e.c.volume)) r.verdict_now = m->classify(e.c.frustum, e.c.volume);
+  r.reproduces = r.verdict_now && *r.verdict_now == e.verdict;
+  r.fixed = r.verdict_now && *r.verdict_now == r.truth_now;
+  if (auto it = e.c.extra.find("verdicts"); it != e.c.extra.end() && it->is_object()) {
+    for (auto v = it->begin(); v != it->end(); ++v) {
+      const Method* m = find_method(v.key());
+      if (!m || !v->is_string()) continue;
+      const auto now = m->takes(e.c.volume) ? m->classify(e.c.frustum, e.c.volume) : std::nullopt;
+      const Visibility recorded = visibility_from_string(v->get<std::string>());
+      if (!now || *now != recorded) r.changed.push_back(v.key());
+      if (recorded == *e.c.truth && (!now || *now != r.truth_now)) r.regressed.push_back(v.key());
+    }
+  }
+  return r;
+}
+
+}  // namespace cullproof

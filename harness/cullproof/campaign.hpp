@@ -1,0 +1,92 @@
+// The side-by-side verification run (`cullproof verify`): every selected method and the exact
+// oracle on the same generated cases; error classes, conservativeness, cost; mismatches shrunk
+// and written to the corpus.
+//
+// Definitions used in the report (CONVENTIONS "What a method may get wrong"):
+//  - false-intersect rate  = false intersects / cases whose truth is outside (the invisible
+//    volumes a method fails to cull), with a 95% Wilson score interval;
+//  - under-inside rate     = under-insides / cases whose truth is inside;
+//  - distance of a false intersect = the oracle's exact Euclidean distance between the volume
+//    and the frustum, divided by the scene size (the diameter of the frustum's bounded part);
+//  - a claim is refuted by an error its claim forbids (see `violates_claim`), beyond the method's
+//    tolerance where the claim has one.
+#pragma once
+
+#include "cullproof/generators.hpp"
+#include "cullproof/methods.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cullproof {
+
+/// Error class of a verdict against the truth (CONVENTIONS table).
+enum class ErrorClass : std::uint8_t { correct, false_reject, false_inside, false_intersect, under_inside };
+/// "correct", "false-reject", "false-inside", "false-intersect", "under-inside".
+const char* to_string(ErrorClass e) noexcept;
+/// The class of `verdict` when the truth is `truth`.
+ErrorClass error_class(Visibility verdict, Visibility truth) noexcept;
+/// Whether an error of class `e` at exact boundary distance `distance` breaks `claim`, for a
+/// method with rounding tolerance `tolerance` (relative to `scale`, see Method::tolerance).
+bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale) noexcept;
+
+struct VerifyOptions {
+  std::uint64_t cases = 20000;                 ///< per distribution
+  std::uint64_t seed = 1;
+  std::vector<gen::Distribution> distributions = gen::generic_distributions();
+  std::vector<std::string> methods;            ///< empty: every registered method
+  int threads = 0;                             ///< 0: all hardware threads
+  std::optional<std::filesystem::path> corpus; ///< write new mismatches here
+  int corpus_per_class = 3;                    ///< per (method, distribution, class) and run
+  int shrink_budget = 400;                     ///< oracle calls per shrink
+  std::optional<std::uint64_t> only_index;     ///< reproduce one case
+  bool progress = true;                        ///< progress bar on stderr
+  bool timing = true;                          ///< measure ns/test
+};
+
+struct MethodStats {
+  std::string method;
+  Claim claim = Claim::none;
+  bool published = true;
+  std::uint64_t cases = 0;  ///< cases the method applies to
+  std::uint64_t truth_outside = 0, truth_intersecting = 0, truth_inside = 0;
+  std::uint64_t false_reject = 0, false_inside = 0, false_intersect = 0, under_inside = 0;
+  std::uint64_t claim_violations = 0;
+  std::vector<double> fi_distance;  ///< relative distances of false intersects
+  double ns_per_test = 0.0;
+  std::vector<std::string> corpus_written;  ///< ids of corpus cases written by this run
+  bool refuted() const noexcept { return claim_violations > 0; }
+};
+
+struct DistributionResult {
+  gen::Distribution distribution{};
+  std::uint64_t cases = 0;
+  std::uint64_t oracle_calls = 0, oracle_fallbacks = 0;
+  std::vector<MethodStats> methods;
+};
+
+struct VerifyResult {
+  VerifyOptions options;
+  std::vector<DistributionResult> distributions;
+  double wall_seconds = 0.0;
+  /// A claim of one of cullproof's own methods broke (the run's exit status is non-zero).
+  bool own_claim_broken() const noexcept;
+};
+
+/// Runs the campaign. Progress goes to stderr when options.progress is set.
+VerifyResult run_verify(const VerifyOptions& options);
+/// One table per distribution (the README format).
+void print_tables(const VerifyResult& r, std::ostream& out);
+/// The whole result for scripts.
+nlohmann::json to_json(const VerifyResult& r);
+
+/// Wilson score interval (95%) for k successes in n trials: {low, high}; {0, 0} when n == 0.
+std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept;
+
+}  // namespace cullproof

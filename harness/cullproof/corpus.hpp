@@ -1,0 +1,45 @@
+// The mismatch corpus (corpus/): one case per file, corpus/<method>/<distribution>/<class>-<hash>.json,
+// in the CONVENTIONS case format plus the mismatch record (method, verdict, class, truth,
+// witness, distance, seed, reproduce command, every method's verdict on the case).
+#pragma once
+
+#include "cullproof/campaign.hpp"
+#include "cullproof/case_io.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace cullproof {
+
+/// One corpus file and the mismatch it records.
+struct CorpusEntry {
+  std::filesystem::path file;
+  Case c;
+  std::string method;        ///< the method whose error this case records
+  Visibility verdict{};      ///< its recorded verdict
+  ErrorClass error{};        ///< recorded class
+  std::string distribution;  ///< where the campaign found it
+};
+
+/// 12 hex digits identifying the geometry (FNV-1a of the canonical frustum and volume text).
+std::string geometry_hash(const CaseFrustum& f, const Volume& v);
+/// Reads every *.json under `dir` (sorted by path). Throws CaseError for a malformed file and
+/// std::runtime_error for a file that lacks the mismatch record (naming the file and field).
+std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir);
+
+/// Outcome of replaying one corpus entry.
+struct ReplayResult {
+  const CorpusEntry* entry = nullptr;
+  Visibility truth_now{};
+  bool truth_changed = false;            ///< the oracle disagrees with the recorded truth
+  std::optional<Visibility> verdict_now; ///< the method's verdict now (nullopt: method gone)
+  bool reproduces = false;               ///< the recorded verdict is given again
+  bool fixed = false;                    ///< the method now agrees with the truth
+  std::vector<std::string> regressed;    ///< methods that were correct in the record and now are not
+  std::vector<std::string> changed;      ///< methods whose verdict differs from the record
+};
+/// Re-runs the oracle and every recorded method on the entry.
+ReplayResult replay(const CorpusEntry& e);
+
+}  // namespace cullproof

@@ -1,0 +1,78 @@
+// Case generators shared by the property tests and the verification run (`cullproof verify`).
+//
+// Every generator is a RapidCheck rc::Gen built from valid constructions, aimed at the cases it
+// names instead of filtering: a property gets shrinking for free, and the campaign draws case i
+// of a distribution from rc::Random(seed, distribution, i), so the same seed gives the same
+// cases, and it shrinks a mismatch by walking the same Shrinkable tree.
+#pragma once
+
+#include "cullproof/frustum_build.hpp"
+#include "cullproof/geometry.hpp"
+
+#include <rapidcheck.h>
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cullproof::gen {
+
+/// Named case distributions. The first six are the generic ones; the rest are the hard-case
+/// families (issue 7), reported together as "all-hard".
+enum class Distribution {
+  uniform,            ///< volumes of all sizes anywhere around the frustum
+  near_boundary,      ///< within a few box sizes of a frustum face
+  corner,             ///< near frustum edges and corners, where n/p tests err (A&M fig. 2)
+  enclosing,          ///< volumes about as large as the frustum, often containing it
+  tiny_huge,          ///< sizes from 1e-7 to 10x the frustum
+  degenerate,         ///< flat, segment and point boxes, zero-radius spheres, points
+  touch,              ///< exactly touching a plane at a face, an edge or a vertex
+  ulp,                ///< touching, then moved 1 ulp in or out
+  far_offset,         ///< camera and small volumes at world coordinates 1e5 .. 1e7
+  tiny_near,          ///< near 1e-4 .. 1e-2, far 1e3 .. 1e7, end-to-end from a float32 matrix
+  reversed_infinite,  ///< reversed-Z and infinite far, both depth ranges
+  extreme_fov,        ///< fov 0.01 .. 179.9 degrees, aspect 1e-3 .. 1e3
+  ill_conditioned,    ///< unnormalised planes with huge and tiny coefficients, skewed OBB axes
+  rod,                ///< long thin boxes crossing the frustum with no corner inside
+};
+
+/// Stable kebab-case name ("near-boundary", "far-offset", ...).
+std::string_view to_string(Distribution d) noexcept;
+/// One line on what the distribution generates.
+std::string_view describe(Distribution d) noexcept;
+/// Parses a name; "all" and "all-hard" expand to several. Throws std::invalid_argument listing
+/// the known names.
+std::vector<Distribution> parse_distributions(std::string_view name);
+/// The generic distributions (the campaign's default).
+std::vector<Distribution> generic_distributions();
+/// The hard-case families.
+std::vector<Distribution> hard_distributions();
+
+/// A generated case: the frustum as a culler sees it (and the matrix, for end-to-end cases), a
+/// volume, and the frustum's size for relative distances.
+struct GenCase {
+  CaseFrustum frustum;
+  Volume volume;
+  double scene_size = 1.0;  ///< diameter of the frustum's bounded part (placement frustum)
+};
+
+/// A random case of the distribution.
+rc::Gen<GenCase> case_of(Distribution d);
+/// A random frustum of the generic kinds (perspective, off-axis, orthographic, reversed-Z,
+/// infinite far; as planes or as a matrix).
+rc::Gen<CaseFrustum> any_frustum();
+
+/// The campaign's deterministic draw: case `index` of distribution `d` for `seed`, as a
+/// Shrinkable (value() is the case; shrinks() its simpler versions).
+rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index);
+
+/// The scale against which rounding tolerances are measured (see Method::tolerance): the largest,
+/// over the planes, of what evaluating the plane at the volume rounds, in distance units,
+/// (sum_i a_i M + a_d) / |n|, with M the volume's largest coordinate magnitude and a the bound
+/// on the plane's coefficients: |plane| for planes given as planes; |r4| + |rk| for a matrix,
+/// whose float extraction rounds in proportion to that (so an end-to-end case whose extraction
+/// cancels badly, e.g. a tiny near plane, has a large scale). At least M.
+double case_scale(const CaseFrustum& f, const Volume& v);
+
+}  // namespace cullproof::gen

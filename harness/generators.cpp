@@ -1,0 +1,665 @@
+// Case generators (see cullproof/generators.hpp).
+#include "cullproof/generators.hpp"
+
+#include "cullproof/certified.hpp"
+
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <type_traits>
+#include <variant>
+
+namespace cullproof::gen {
+
+// ---------------------------------------------------------------------------------------------
+// Names
+
+namespace {
+
+struct Info {
+  Distribution d;
+  const char* name;
+  const char* text;
+};
+
+constexpr Info kInfo[] = {
+    {Distribution::uniform, "uniform", "volumes of all sizes anywhere around the frustum"},
+    {Distribution::near_boundary, "near-boundary", "within a few box sizes of a frustum face"},
+    {Distribution::corner, "corner", "near frustum edges and corners, where n/p tests err (Assarsson & Moller fig. 2)"},
+    {Distribution::enclosing, "enclosing", "volumes about as large as the frustum, often containing it"},
+    {Distribution::tiny_huge, "tiny-huge", "sizes from 1e-7 to 10 times the frustum"},
+    {Distribution::degenerate, "degenerate", "flat, segment and point boxes, zero-radius spheres, points"},
+    {Distribution::touch, "touch", "exactly touching a plane at a face, an edge or a vertex (exact values)"},
+    {Distribution::ulp, "ulp", "touching, then moved 1 ulp in or out"},
+    {Distribution::far_offset, "far-offset", "camera and small volumes at world coordinates 1e5 to 1e7"},
+    {Distribution::tiny_near, "tiny-near", "near 1e-4..1e-2, far 1e3..1e7, end-to-end from the float32 matrix"},
+    {Distribution::reversed_infinite, "reversed-infinite", "reversed-Z and infinite far, both depth ranges"},
+    {Distribution::extreme_fov, "extreme-fov", "fov 0.01..179.9 degrees, aspect 1e-3..1e3"},
+    {Distribution::ill_conditioned, "ill-conditioned", "planes scaled by huge/tiny factors, skewed OBB axes"},
+    {Distribution::rod, "rod", "long thin boxes crossing the frustum with no corner inside"},
+};
+
+}  // namespace
+
+std::string_view to_string(Distribution d) noexcept {
+  for (const Info& i : kInfo)
+    if (i.d == d) return i.name;
+  return "invalid";
+}
+
+std::string_view describe(Distribution d) noexcept {
+  for (const Info& i : kInfo)
+    if (i.d == d) return i.text;
+  return "";
+}
+
+std::vector<Distribution> generic_distributions() {
+  return {Distribution::uniform, Distribution::near_boundary, Distribution::corner,
+          Distribution::enclosing, Distribution::tiny_huge, Distribution::degenerate};
+}
+
+std::vector<Distribution> hard_distributions() {
+  return {Distribution::touch, Distribution::ulp, Distribution::far_offset, Distribution::tiny_near,
+          Distribution::reversed_infinite, Distribution::degenerate, Distribution::extreme_fov,
+          Distribution::ill_conditioned, Distribution::rod, Distribution::corner};
+}
+
+std::vector<Distribution> parse_distributions(std::string_view name) {
+  if (name == "all") {
+    std::vector<Distribution> all;
+    for (const Info& i : kInfo) all.push_back(i.d);
+    return all;
+  }
+  if (name == "all-hard") return hard_distributions();
+  if (name == "all-generic") return generic_distributions();
+  for (const Info& i : kInfo)
+    if (name == i.name) return {i.d};
+  std::string known = "all, all-generic, all-hard";
+  for (const Info& i : kInfo) known += std::string(", ") + i.name;
+  throw std::invalid_argument("unknown distribution '" + std::string(name) + "' (known: " + known + ")");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Building blocks
+
+namespace {
+
+constexpr std::int64_t kSteps = std::int64_t(1) << 30;
+
+// A double in [0, 1], shrinking towards 0.
+rc::Gen<double> unit() {
+  return rc::gen::map(rc::gen::inRange<std::int64_t>(0, kSteps + 1),
+                      [](std::int64_t k) { return double(k) / double(kSteps); });
+}
+double in(double lo, double hi) { return lo + (hi - lo) * *unit(); }
+double log_in(double lo_exp10, double hi_exp10) { return std::pow(10.0, in(lo_exp10, hi_exp10)); }
+bool coin(int percent_true) { return *rc::gen::inRange(0, 100) < percent_true; }
+int pick(int n) { return *rc::gen::inRange(0, n); }
+
+glm::dvec3 unit_vector() {
+  const double z = in(-1.0, 1.0), a = in(0.0, 2.0 * M_PI), s = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {s * std::cos(a), s * std::sin(a), z};
+}
+
+// A rotation from three uniforms (Shoemake), as a float matrix: orthonormal only up to rounding.
+glm::mat3 rotation() {
+  const double u1 = *unit(), u2 = in(0, 2 * M_PI), u3 = in(0, 2 * M_PI);
+  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
+  const glm::quat q(float(a * std::sin(u2)), float(a * std::cos(u2)), float(b * std::sin(u3)), float(b * std::cos(u3)));
+  return glm::mat3_cast(glm::normalize(q));
+}
+
+glm::mat4 reverse_depth(const glm::mat4& proj, DepthRange range) {
+  glm::mat4 r(1.0f);
+  r[2][2] = -1.0f;
+  if (range == DepthRange::zero_to_one) r[3][2] = 1.0f;
+  return r * proj;
+}
+
+// What a camera generator decides; the matrix and the planes follow from it.
+struct Camera {
+  glm::vec3 eye{0.0f};
+  glm::vec3 dir{0.0f, 0.0f, -1.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  bool ortho = false;
+  float l = -1, r = 1, b = -1, t = 1;  // window at the near plane (ortho: the box)
+  float n = 1, f = 100;
+  bool infinite = false;
+  DepthConvention depth;
+  bool as_matrix = false;
+  bool normalize = false;
+};
+
+glm::mat4 projection(const Camera& c, bool finite_only) {
+  glm::mat4 p;
+  const bool inf = c.infinite && !finite_only && !c.ortho;
+  const float f = (c.infinite && finite_only) ? c.n * 1000.0f : c.f;
+  if (c.ortho) {
+    p = c.depth.range == DepthRange::negative_one_to_one ? glm::orthoRH_NO(c.l, c.r, c.b, c.t, c.n, f)
+                                                         : glm::orthoRH_ZO(c.l, c.r, c.b, c.t, c.n, f);
+  } else if (!inf) {
+    p = c.depth.range == DepthRange::negative_one_to_one ? glm::frustumRH_NO(c.l, c.r, c.b, c.t, c.n, f)
+                                                         : glm::frustumRH_ZO(c.l, c.r, c.b, c.t, c.n, f);
+  } else {
+    // The limit of frustumRH_* as far -> infinity: r3 = (0, 0, -1, -2n) or (0, 0, -1, -n).
+    p = glm::mat4(0.0f);
+    p[0][0] = 2.0f * c.n / (c.r - c.l);
+    p[1][1] = 2.0f * c.n / (c.t - c.b);
+    p[2][0] = (c.r + c.l) / (c.r - c.l);
+    p[2][1] = (c.t + c.b) / (c.t - c.b);
+    p[2][2] = -1.0f;
+    p[2][3] = -1.0f;
+    p[3][2] = c.depth.range == DepthRange::negative_one_to_one ? -2.0f * c.n : -c.n;
+  }
+  return c.depth.reversed_z ? reverse_depth(p, c.depth.range) : p;
+}
+
+glm::mat4 view_matrix(const Camera& c) { return glm::lookAtRH(c.eye, c.eye + c.dir, c.up); }
+
+// The frustum's bounded part used to place volumes (an infinite far plane is brought in to
+// 1000 near distances); corners in double.
+struct Placement {
+  std::array<glm::dvec3, 8> corner{};
+  glm::dvec3 center{0.0};
+  double size = 1.0;  // diameter
+  bool ok = false;
+};
+
+Placement placement_of(const Frustum& f) {
+  Placement p;
+  if (!is_bounded(f)) return p;
+  p.corner = frustum_corners(f);
+  for (const auto& c : p.corner) p.center += c / 8.0;
+  for (const auto& a : p.corner)
+    for (const auto& b : p.corner) p.size = std::max(p.size, glm::length(a - b));
+  p.ok = std::isfinite(p.size) && p.size > 0.0;
+  return p;
+}
+
+CaseFrustum realize(const Camera& c) {
+  const glm::mat4 vp = projection(c, false) * view_matrix(c);
+  CaseFrustum f = frustum_spec(vp, c.depth);
+  if (!c.as_matrix) {
+    f.matrix.reset();
+    if (c.normalize) f.planes = f.planes.normalized();
+  }
+  return f;
+}
+
+Placement placement_for(const Camera& c) {
+  Camera finite = c;
+  finite.depth = {};
+  const Frustum f = frustum_from_matrix(projection(finite, true) * view_matrix(c));
+  Placement p = placement_of(f);
+  if (!p.ok) {  // numerically degenerate: place around the view axis
+    p.center = glm::dvec3(c.eye) + glm::dvec3(c.dir) * double(c.n) * 2.0;
+    p.size = std::max(1e-3, double(c.n) * 4.0);
+    for (int i = 0; i < 8; ++i)
+      p.corner[static_cast<std::size_t>(i)] =
+          p.center + p.size * 0.5 * glm::dvec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
+    p.ok = true;
+  }
+  return p;
+}
+
+// The generic camera: anywhere, looking anywhere.
+Camera generic_camera() {
+  Camera c;
+  for (int i = 0; i < 3; ++i) c.eye[i] = coin(20) ? 0.0f : float((coin(50) ? 1 : -1) * log_in(-2, 3));
+  c.dir = glm::vec3(unit_vector());
+  glm::vec3 up = glm::vec3(unit_vector());
+  if (glm::length(glm::cross(up, c.dir)) < 0.2f) {
+    // Too close to the view direction: use the axis least aligned with it.
+    const glm::vec3 a = glm::abs(c.dir);
+    up = a.x <= a.y && a.x <= a.z ? glm::vec3(1, 0, 0) : a.y <= a.z ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
+  }
+  c.up = up;
+  c.n = float(log_in(-2, 0.7));
+  c.f = c.n * float(log_in(1, 3));
+  const int kind = pick(10);  // 0-5 symmetric, 6-7 off-axis, 8-9 orthographic
+  const float aspect = float(in(0.4, 2.5));
+  if (kind < 8) {
+    const float fovy = float(in(15, 120));
+    const float t = c.n * std::tan(glm::radians(fovy) / 2.0f);
+    c.t = t;
+    c.b = -t;
+    c.r = t * aspect;
+    c.l = -c.r;
+    if (kind >= 6) {  // off-axis: shift the window (stereo, CAVE walls, Hoff's off-axis COP)
+      const float sx = float(in(-0.9, 0.9)) * c.r, sy = float(in(-0.5, 0.5)) * c.t;
+      c.l += sx;
+      c.r += sx;
+      c.b += sy;
+      c.t += sy;
+    }
+    c.infinite = coin(15);
+  } else {
+    c.ortho = true;
+    const float h = float(log_in(-1, 2));
+    c.t = h;
+    c.b = -h;
+    c.r = h * aspect;
+    c.l = -c.r;
+  }
+  c.depth.range = coin(50) ? DepthRange::negative_one_to_one : DepthRange::zero_to_one;
+  c.depth.reversed_z = coin(25);
+  c.as_matrix = coin(40);
+  c.normalize = coin(30);
+  return c;
+}
+
+// Volumes ------------------------------------------------------------------------------------
+
+enum class Shape { point, sphere, aabb, obb };
+
+Shape any_shape() {
+  const int k = pick(20);
+  return k < 2 ? Shape::point : k < 6 ? Shape::sphere : k < 13 ? Shape::aabb : Shape::obb;
+}
+
+// A volume of the given shape centred at c with typical half-size s (each axis 0.1..1 of s).
+Volume volume_at(Shape shape, const glm::dvec3& c, double s) {
+  const glm::vec3 cf(c);
+  switch (shape) {
+    case Shape::point: return Point(cf);
+    case Shape::sphere: return Sphere{cf, float(s * in(0.1, 1.0))};
+    case Shape::aabb: {
+      const glm::dvec3 h(s * in(0.1, 1), s * in(0.1, 1), s * in(0.1, 1));
+      return Aabb{glm::vec3(c - h), glm::vec3(c + h)};
+    }
+    case Shape::obb: break;
+  }
+  return Obb{cf, rotation(), glm::vec3(float(s * in(0.1, 1)), float(s * in(0.1, 1)), float(s * in(0.1, 1)))};
+}
+
+// Corners of face k of a placement frustum (CONVENTIONS plane order), and its outward normal.
+const int kFaceCorners[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+
+glm::dvec3 point_on_face(const Placement& p, int face) {
+  const double u = *unit(), v = *unit();
+  const auto& k = kFaceCorners[face];
+  const glm::dvec3 a = glm::mix(p.corner[k[0]], p.corner[k[1]], u), b = glm::mix(p.corner[k[3]], p.corner[k[2]], u);
+  return glm::mix(a, b, v);
+}
+
+glm::dvec3 outward(const Placement& p, int face) {
+  const auto& k = kFaceCorners[face];
+  glm::dvec3 n = glm::cross(p.corner[k[1]] - p.corner[k[0]], p.corner[k[3]] - p.corner[k[0]]);
+  if (glm::length(n) == 0.0) return glm::normalize(glm::mix(p.corner[k[0]], p.corner[k[2]], 0.5) - p.center);
+  n = glm::normalize(n);
+  const glm::dvec3 face_c = (p.corner[k[0]] + p.corner[k[2]]) * 0.5;
+  return glm::dot(n, face_c - p.center) < 0 ? -n : n;
+}
+
+double rel_size(double lo_exp, double hi_exp) { return log_in(lo_exp, hi_exp); }
+
+Volume near_boundary(const Placement& p, Shape shape, double s) {
+  const int face = pick(6);
+  const glm::dvec3 x = point_on_face(p, face) + outward(p, face) * (s * in(-2.5, 2.5));
+  return volume_at(shape, x, s);
+}
+
+Volume near_corner(const Placement& p, Shape shape, double s) {
+  glm::dvec3 x, out;
+  if (coin(60)) {  // an edge: two corners differing in one index bit
+    const int i = pick(8), bit = 1 << pick(3);
+    const int j = i ^ bit;
+    x = glm::mix(p.corner[i], p.corner[j], *unit());
+    out = glm::normalize((p.corner[i] + p.corner[j]) * 0.5 - p.center);
+  } else {
+    const int i = pick(8);
+    x = p.corner[i];
+    out = glm::normalize(p.corner[i] - p.center);
+  }
+  return volume_at(shape, x + out * (s * in(0.2, 2.0)), s);
+}
+
+GenCase make(const Camera& cam, const Placement& p, Volume v) {
+  GenCase g;
+  g.frustum = realize(cam);
+  g.volume = std::move(v);
+  g.scene_size = p.size;
+  return g;
+}
+
+GenCase generic_case(Distribution d) {
+  const Camera cam = generic_camera();
+  const Placement p = placement_for(cam);
+  const Shape shape = d == Distribution::degenerate ? Shape::aabb : any_shape();
+  switch (d) {
+    case Distribution::uniform: {
+      const glm::dvec3 x = p.center + p.size * 0.75 * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1));
+      return make(cam, p, volume_at(shape, x, p.size * rel_size(-3, -0.5)));
+    }
+    case Distribution::near_boundary: return make(cam, p, near_boundary(p, shape, p.size * rel_size(-3, -1)));
+    case Distribution::corner: return make(cam, p, near_corner(p, shape, p.size * rel_size(-3, -1)));
+    case Distribution::enclosing: {
+      const glm::dvec3 x = p.center + p.size * 0.2 * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1));
+      return make(cam, p, volume_at(shape == Shape::point ? Shape::aabb : shape, x, p.size * in(0.5, 1.5)));
+    }
+    case Distribution::tiny_huge: {
+      const double s = p.size * rel_size(-7, 1);
+      return make(cam, p, coin(50) ? near_boundary(p, shape, s)
+                                   : volume_at(shape, p.center + p.size * 0.6 * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1)), s));
+    }
+    case Distribution::degenerate: {
+      const double s = p.size * rel_size(-3, -1);
+      Volume v = coin(50) ? near_boundary(p, Shape::aabb, s) : near_corner(p, Shape::aabb, s);
+      const int kind = pick(6);
+      if (kind == 0) return make(cam, p, Point(std::get<Aabb>(v).center()));
+      if (kind == 1) return make(cam, p, Sphere{std::get<Aabb>(v).center(), 0.0f});
+      Aabb b = std::get<Aabb>(v);
+      const int keep = kind == 2 ? 0 : kind == 3 ? 1 : 2;  // 2: point box, 3: segment, 4-5: flat
+      for (int a = 0, kept = 0; a < 3; ++a) {
+        const bool flat = kept >= keep;
+        if (!flat) {
+          ++kept;
+          continue;
+        }
+        b.min[a] = b.max[a] = b.center()[a];
+      }
+      if (coin(50)) return make(cam, p, to_obb(b));
+      return make(cam, p, b);
+    }
+    default: break;
+  }
+  return make(cam, p, volume_at(shape, p.center, p.size * 0.1));
+}
+
+// Exact touching --------------------------------------------------------------------------------
+//
+// View space frustum with integer planes: glm::frustum(-n, n, -n, n, n, f) in [-1,1], so
+// |x| <= -z, |y| <= -z, z in [-f, -n]; f/n in {2, 3, 5, 9} keeps every matrix entry dyadic. The
+// world transform is an axis permutation with signs and an integer translation: exact.
+struct ExactFrame {
+  glm::mat3 rot{1.0f};  // world = rot * view + shift
+  glm::vec3 shift{0.0f};
+  float n = 1, f = 3;
+};
+
+ExactFrame exact_frame() {
+  ExactFrame e;
+  static const int kPerm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  const int* perm = kPerm[pick(6)];
+  glm::mat3 r(0.0f);
+  for (int i = 0; i < 3; ++i) r[i][perm[i]] = coin(50) ? 1.0f : -1.0f;
+  e.rot = r;
+  e.shift = glm::vec3(float(*rc::gen::inRange(-64, 65)), float(*rc::gen::inRange(-64, 65)), float(*rc::gen::inRange(-64, 65)));
+  static const float kN[3] = {0.5f, 1.0f, 2.0f}, kRatio[4] = {2, 3, 5, 9};
+  e.n = kN[pick(3)];
+  e.f = e.n * kRatio[pick(4)];
+  return e;
+}
+
+CaseFrustum exact_frustum(const ExactFrame& e, bool as_matrix) {
+  // clip = P * V with V the inverse of (world = rot * view + shift): V = [rot^T | -rot^T shift].
+  const glm::mat4 p = glm::frustumRH_NO(-e.n, e.n, -e.n, e.n, e.n, e.f);
+  glm::mat4 v(glm::transpose(e.rot));
+  v[3] = glm::vec4(-(glm::transpose(e.rot) * e.shift), 1.0f);
+  CaseFrustum f = frustum_spec(p * v, {});
+  if (!as_matrix) f.matrix.reset();
+  return f;
+}
+
+glm::vec3 to_world(const ExactFrame& e, glm::vec3 v) { return e.rot * v + e.shift; }
+
+Aabb world_box(const ExactFrame& e, glm::vec3 lo, glm::vec3 hi) {
+  const glm::vec3 a = to_world(e, lo), b = to_world(e, hi);
+  return Aabb{glm::min(a, b), glm::max(a, b)};
+}
+
+// A dyadic value in [lo, hi] with at most 4 fractional bits.
+float dyadic(float lo, float hi) {
+  const int steps = int((hi - lo) * 16.0f);
+  return lo + float(*rc::gen::inRange(0, steps + 1)) / 16.0f;
+}
+
+GenCase touch_case(bool nudge) {
+  const ExactFrame e = exact_frame();
+  const float n = e.n, f = e.f;
+  const float h = dyadic(0.0625f, 0.5f) * n;
+  glm::vec3 lo, hi;
+  float* moved = nullptr;
+  int kind = pick(7);
+  switch (kind) {
+    case 0:  // face on the near plane, from outside (intersecting)
+      lo = {-h, -h, -n};
+      hi = {h, h, -n + h};
+      moved = &lo.z;
+      break;
+    case 1:  // face on the near plane, from inside (inside)
+      lo = {-h, -h, -n - h};
+      hi = {h, h, -n};
+      moved = &hi.z;
+      break;
+    case 2:  // face on the far plane, from outside
+      lo = {-h, -h, -f - h};
+      hi = {h, h, -f};
+      moved = &hi.z;
+      break;
+    case 3: {  // an edge on the right plane x = -z, from outside
+      const float a = dyadic(n, f);
+      lo = {a, -h, -a};
+      hi = {a + h, h, -a + h};
+      moved = &lo.x;
+      break;
+    }
+    case 4: {  // a vertex on the lateral edge x = y = -z, from outside
+      const float a = dyadic(n, f);
+      lo = {a, a, -a};
+      hi = {a + h, a + h, -a + h};
+      moved = &lo.y;
+      break;
+    }
+    case 5:  // a frustum corner (n, n, -n) touching a box corner from outside
+      lo = {n, n, -n};
+      hi = {n + h, n + h, -n + h};
+      moved = &lo.x;
+      break;
+    default: {  // a box inside touching the left plane x = z along an edge
+      // Left plane x - z >= 0; the box's min x equals its max z: touching from inside.
+      const float a = dyadic(n, f - h);
+      lo = {-a, -h, -a - h};
+      hi = {-a + h, h, -a};
+      moved = &hi.z;
+      break;
+    }
+  }
+  if (nudge) *moved = std::nextafter(*moved, coin(50) ? std::numeric_limits<float>::infinity()
+                                                     : -std::numeric_limits<float>::infinity());
+  GenCase g;
+  g.frustum = exact_frustum(e, coin(30));
+  g.scene_size = 2.0 * f * std::sqrt(3.0);
+  const Aabb box = world_box(e, lo, hi);
+  const int shape = pick(10);
+  if (shape < 5) {
+    g.volume = box;
+  } else if (shape < 8) {
+    g.volume = to_obb(box);
+  } else if (shape == 8) {  // the touching corner or face centre as a point (on the plane: inside)
+    g.volume = Point(to_world(e, kind == 4 || kind == 5 ? lo : glm::vec3(0.0f, 0.0f, kind == 2 ? -f : -n)));
+  } else {  // a sphere touching the near or far plane
+    const float r = h;
+    const float z = kind == 2 ? -f - r : -n + r;
+    g.volume = Sphere{to_world(e, {0.0f, 0.0f, nudge ? std::nextafter(z, 0.0f) : z}), r};
+  }
+  return g;
+}
+
+// Hard families on the generic camera ------------------------------------------------------------
+
+GenCase hard_case(Distribution d) {
+  Camera cam = generic_camera();
+  switch (d) {
+    case Distribution::far_offset: {
+      for (int i = 0; i < 3; ++i) cam.eye[i] = float((coin(50) ? 1 : -1) * log_in(5, 7));
+      cam.n = float(log_in(-1, 0));
+      cam.f = float(log_in(2, 3));
+      if (cam.ortho) cam.ortho = false, cam.l = -cam.n, cam.r = cam.n, cam.b = -cam.n, cam.t = cam.n;
+      const Placement p = placement_for(cam);
+      return make(cam, p, coin(50) ? near_boundary(p, any_shape(), log_in(-2, 1)) : near_corner(p, any_shape(), log_in(-2, 1)));
+    }
+    case Distribution::tiny_near: {
+      cam.ortho = false;
+      cam.infinite = false;
+      cam.n = float(log_in(-4, -2));
+      cam.f = float(log_in(3, 7));
+      const float t = cam.n * std::tan(glm::radians(float(in(20, 110))) / 2.0f), a = float(in(0.5, 2.2));
+      cam.t = t, cam.b = -t, cam.r = t * a, cam.l = -t * a;
+      cam.as_matrix = true;
+      // Place near the planes close to the eye: a slice at depth between near and 1000 near.
+      Camera slice = cam;
+      slice.f = cam.n * float(log_in(0.3, 3));
+      slice.depth = {};
+      const Placement p = placement_for(slice);
+      const Placement whole = placement_for(cam);
+      GenCase g = make(cam, p, coin(60) ? near_boundary(p, any_shape(), p.size * rel_size(-3, -1))
+                                        : near_corner(p, any_shape(), p.size * rel_size(-3, -1)));
+      g.scene_size = whole.size;
+      return g;
+    }
+    case Distribution::reversed_infinite: {
+      if (cam.ortho) cam.ortho = false, cam.l = -cam.n, cam.r = cam.n, cam.b = -cam.n, cam.t = cam.n;
+      cam.infinite = true;
+      cam.depth.reversed_z = coin(70);
+      cam.as_matrix = coin(60);
+      const Placement p = placement_for(cam);
+      return make(cam, p, coin(50) ? near_boundary(p, any_shape(), p.size * rel_size(-3, -1))
+                                   : volume_at(any_shape(), p.center + p.size * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1)),
+                                               p.size * rel_size(-3, 0)));
+    }
+    case Distribution::extreme_fov: {
+      cam.ortho = false;
+      const float fovy = float(coin(50) ? log_in(-2, 1) : in(120, 179.9));
+      const float aspect = float(log_in(-3, 3));
+      const float t = cam.n * std::tan(glm::radians(fovy) / 2.0f);
+      cam.t = t, cam.b = -t, cam.r = t * aspect, cam.l = -t * aspect;
+      const Placement p = placement_for(cam);
+      return make(cam, p, coin(50) ? near_boundary(p, any_shape(), p.size * rel_size(-4, -1))
+                                   : near_corner(p, any_shape(), p.size * rel_size(-4, -1)));
+    }
+    case Distribution::ill_conditioned: {
+      cam.as_matrix = false;
+      cam.normalize = false;
+      const Placement p = placement_for(cam);
+      GenCase g = make(cam, p, coin(50) ? near_boundary(p, any_shape(), p.size * rel_size(-3, -1))
+                                        : near_corner(p, any_shape(), p.size * rel_size(-3, -1)));
+      for (Plane& pl : g.frustum.planes.planes) {
+        // Powers of two keep the half-space exactly; other factors round every coefficient.
+        const double k = coin(50) ? std::ldexp(1.0, *rc::gen::inRange(-60, 61)) : log_in(-18, 18);
+        pl.n = glm::vec3(glm::dvec3(pl.n) * k);
+        pl.d = float(double(pl.d) * k);
+      }
+      if (Obb* o = std::get_if<Obb>(&g.volume)) {
+        for (int a = 0; a < 3; ++a)  // visibly non-orthonormal axes
+          o->axes[a] = glm::vec3(glm::dvec3(o->axes[a]) + unit_vector() * log_in(-4, -2));
+      }
+      return g;
+    }
+    case Distribution::rod: {
+      // A bounded frustum, so that both ends of a rod longer than the frustum lie outside it;
+      // the rod passes through a point inside (slid along its own axis).
+      cam.infinite = false;
+      const Placement p = placement_for(cam);
+      const glm::dvec3 through = glm::mix(p.center, p.corner[pick(8)], in(0, 0.6));
+      const double len = p.size * in(1.5, 4), thick = p.size * log_in(-4, -2);
+      Obb o;
+      if (coin(30)) {
+        const int a = pick(3);
+        glm::dvec3 axis(0.0);
+        axis[a] = 1.0;
+        o.center = glm::vec3(through + axis * (len * in(-0.3, 0.3)));
+        o.half = glm::vec3(float(thick));
+        o.half[a] = float(len);
+        return make(cam, p, Aabb{o.center - o.half, o.center + o.half});
+      }
+      o.axes = rotation();
+      o.center = glm::vec3(through + glm::dvec3(o.axes[0]) * (len * in(-0.3, 0.3)));
+      o.half = glm::vec3(float(len), float(thick), float(thick * in(0.2, 1)));
+      return make(cam, p, o);
+    }
+    default: break;
+  }
+  return generic_case(d);
+}
+
+}  // namespace
+
+rc::Gen<GenCase> case_of(Distribution d) {
+  // Fixed size: the building blocks draw from their whole ranges whatever size RapidCheck is at
+  // (its inRange narrows with size, which at size 0 would pin every draw to its lower bound).
+  return rc::gen::resize(100, rc::gen::exec([d] {
+    switch (d) {
+      case Distribution::touch: return touch_case(false);
+      case Distribution::ulp: return touch_case(true);
+      case Distribution::far_offset:
+      case Distribution::tiny_near:
+      case Distribution::reversed_infinite:
+      case Distribution::extreme_fov:
+      case Distribution::ill_conditioned:
+      case Distribution::rod: return hard_case(d);
+      default: return generic_case(d);
+    }
+  }));
+}
+
+rc::Gen<CaseFrustum> any_frustum() {
+  return rc::gen::resize(100, rc::gen::exec([] { return realize(generic_camera()); }));
+}
+
+rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index) {
+  // One independent stream per (seed, distribution, index): splitmix64 of the three.
+  auto mix = [](std::uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+  };
+  const std::uint64_t key = mix(mix(mix(seed) ^ std::uint64_t(d)) ^ index);
+  return case_of(d)(rc::Random(key), 100);
+}
+
+double case_scale(const CaseFrustum& f, const Volume& v) {
+  // M: the largest coordinate magnitude of the volume (centre plus extent).
+  double m = 0.0;
+  auto vec = [&](const glm::vec3& x, double extra) {
+    for (int i = 0; i < 3; ++i) m = std::max(m, double(std::abs(x[i])) + extra);
+  };
+  std::visit(
+      [&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, Point>) {
+          vec(x, 0.0);
+        } else if constexpr (std::is_same_v<T, Sphere>) {
+          vec(x.center, x.radius);
+        } else if constexpr (std::is_same_v<T, Aabb>) {
+          vec(x.min, 0.0);
+          vec(x.max, 0.0);
+        } else {
+          double e = 0.0;
+          for (int a = 0; a < 3; ++a) e += double(x.half[a]) * glm::length(glm::dvec3(x.axes[a]));
+          vec(x.center, e);
+        }
+      },
+      v);
+  // Per plane, the magnitude of what its evaluation rounds, in distance units:
+  // (A M + a_d) / |n|, with a the bound on the coefficients (|plane| for planes; |r4| + |rk| for
+  // a matrix, whose float extraction rounds that much: see cullproof/certified.hpp).
+  const CertifiedFrustum c = certify(f);
+  double s = m;
+  for (int k = 0; k < kPlaneCount; ++k) {
+    const Plane& p = c.planes[k];
+    if (p.is_degenerate()) continue;
+    const double len = glm::length(glm::dvec3(p.n));
+    const double a = double(c.bound[k].x) + double(c.bound[k].y) + double(c.bound[k].z);
+    s = std::max(s, (a * m + double(c.bound[k].w)) / len);
+  }
+  return s > 0.0 ? s : 1.0;
+}
+
+}  // namespace cullproof::gen

@@ -1,0 +1,59 @@
+// Certified conservative culling (issue 7): float tests whose decisions carry a rigorous
+// rounding-error bound, derived from the operations performed (src/certified/certified.cpp has
+// the derivation), covering the plane extraction from the matrix as well (end to end). They
+// never give a false reject or a false inside for any valid float input, with or without FMA
+// contraction; where the bound does not let them decide, they answer `intersecting`.
+#pragma once
+
+#include "cullproof/frustum_build.hpp"
+#include "cullproof/geometry.hpp"
+
+#include <array>
+#include <optional>
+
+namespace cullproof {
+
+/// A frustum prepared for certified tests (once per frame). For each plane k: the float plane a
+/// culler uses, and `bound[k]` = (a_x, a_y, a_z, a_d) with |true coefficient| <= a and
+/// |float coefficient - true coefficient| <= u * a (u = 2^-24). For planes given as planes,
+/// a = |plane| (they are the truth). For a matrix, the truth is the exact row sum r4 +- rk and
+/// a = |r4| + |rk| (or |r3| for the [0,1] near plane), componentwise.
+struct CertifiedFrustum {
+  Frustum planes;
+  std::array<glm::vec4, 6> bound{};
+  std::array<float, 6> bound_sum{};  ///< a_x + a_y + a_z, rounded up
+  // Derived once per frame (certify_*): the margin of plane k for a volume whose coordinates
+  // are at most M in magnitude is t = alpha[k] M + beta[k] (8 u bounds, `narrow`, for points and
+  // AABBs; 16 u, `wide`, for spheres and OBBs). Degenerate planes are decided exactly here:
+  // "all space" planes are left out of `active`, a "nothing" plane sets `empty`. Volumes with
+  // M <= m_safe cannot overflow anything in the tests; larger ones take a guarded path.
+  std::array<float, 6> alpha_narrow{}, beta_narrow{}, alpha_wide{}, beta_wide{};
+  std::array<int, 6> active{};
+  int active_count = 0;
+  bool empty = false;
+  float m_safe = 0.0f;
+};
+
+/// Prepares planes given as planes (they are the exact truth).
+CertifiedFrustum certify_planes(const Frustum& f);
+/// Prepares the float Gribb–Hartmann extraction of `m`, bounding the extraction error (end to end).
+CertifiedFrustum certify_matrix(const glm::mat4& m, DepthConvention depth = {});
+/// certify_matrix when the case gives a matrix, certify_planes otherwise.
+CertifiedFrustum certify(const CaseFrustum& f);
+
+/// Certified point test: inside, outside, or intersecting when a plane is within the bound.
+Visibility certified_point(const CertifiedFrustum& f, const Point& p) noexcept;
+/// Certified sphere test (per plane: outside beyond -r |n|, inside beyond +r |n|).
+Visibility certified_sphere(const CertifiedFrustum& f, const Sphere& s) noexcept;
+/// Certified n/p-vertex AABB test (Assarsson & Möller §3.1 with a rounding margin per plane).
+Visibility certified_pn_vertex(const CertifiedFrustum& f, const Aabb& b) noexcept;
+/// Certified n/p-vertex OBB test (normal projected on the box axes).
+Visibility certified_obb_pn_vertex(const CertifiedFrustum& f, const Obb& b) noexcept;
+/// Certified separating-axis test: the certified plane tests, then every other axis on which the
+/// float SAT separates is re-checked exactly enough to be sure: the frustum's side of the axis is
+/// replaced by a non-negative combination of the three planes meeting at the extreme frustum
+/// corner (a half-space that provably holds the whole frustum), and the box is tested against it
+/// with a derived bound. nullopt where sat-exact does not apply.
+std::optional<Visibility> certified_sat(const CertifiedFrustum& f, const Obb& b);
+
+}  // namespace cullproof

@@ -1,0 +1,149 @@
+// Harness units: the error-class table, the claim rules, the confidence interval, deterministic
+// generation, the hard families' construction, and the campaign's corpus writing.
+#include "cullproof/campaign.hpp"
+#include "cullproof/corpus.hpp"
+#include "cullproof/oracle.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+using namespace cullproof;
+using V = Visibility;
+
+TEST(ErrorClass, ConventionsTable) {
+  EXPECT_EQ(error_class(V::outside, V::outside), ErrorClass::correct);
+  EXPECT_EQ(error_class(V::outside, V::intersecting), ErrorClass::false_reject);
+  EXPECT_EQ(error_class(V::outside, V::inside), ErrorClass::false_reject);
+  EXPECT_EQ(error_class(V::intersecting, V::outside), ErrorClass::false_intersect);
+  EXPECT_EQ(error_class(V::intersecting, V::inside), ErrorClass::under_inside);
+  EXPECT_EQ(error_class(V::inside, V::outside), ErrorClass::false_inside);
+  EXPECT_EQ(error_class(V::inside, V::intersecting), ErrorClass::false_inside);
+}
+
+TEST(Claims, RulesPerClaim) {
+  // distance 1e-3 with tolerance 1e-5 at scale 10: beyond tolerance (1e-4); 1e-5: within.
+  EXPECT_TRUE(violates_claim(Claim::certified_conservative, ErrorClass::false_reject, 0.0, 0.0, 1.0));
+  EXPECT_FALSE(violates_claim(Claim::certified_conservative, ErrorClass::false_intersect, 5.0, 0.0, 1.0));
+  EXPECT_TRUE(violates_claim(Claim::conservative, ErrorClass::false_inside, 1e-3, 1e-5, 10.0));
+  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::false_inside, 1e-5, 1e-5, 10.0));
+  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::false_intersect, 7.0, 1e-5, 10.0));
+  EXPECT_TRUE(violates_claim(Claim::exact, ErrorClass::false_intersect, 7.0, 1e-5, 10.0));
+  EXPECT_FALSE(violates_claim(Claim::exact, ErrorClass::under_inside, 1e-6, 1e-5, 10.0));
+  EXPECT_TRUE(violates_claim(Claim::certified_exact, ErrorClass::false_inside, 0.0, 1.0, 1.0));
+  EXPECT_FALSE(violates_claim(Claim::none, ErrorClass::false_reject, 100.0, 0.0, 1.0));
+}
+
+TEST(Wilson, KnownIntervals) {
+  auto [lo, hi] = wilson95(0, 10);
+  EXPECT_EQ(lo, 0.0);
+  EXPECT_NEAR(hi, 0.2775, 1e-4);
+  std::tie(lo, hi) = wilson95(50, 100);
+  EXPECT_NEAR(lo, 0.4038, 1e-4);
+  EXPECT_NEAR(hi, 0.5962, 1e-4);
+  EXPECT_EQ(wilson95(0, 0), std::make_pair(0.0, 0.0));
+}
+
+TEST(Generators, SameSeedSameCasesOtherSeedOtherCases) {
+  for (gen::Distribution d : gen::parse_distributions("all")) {
+    for (std::uint64_t i = 0; i < 20; ++i) {
+      Case a, b, c;
+      a.frustum = gen::draw(d, 7, i).value().frustum;
+      a.volume = gen::draw(d, 7, i).value().volume;
+      b.frustum = gen::draw(d, 7, i).value().frustum;
+      b.volume = gen::draw(d, 7, i).value().volume;
+      c.frustum = gen::draw(d, 8, i).value().frustum;
+      c.volume = gen::draw(d, 8, i).value().volume;
+      EXPECT_EQ(format_case(a), format_case(b)) << gen::to_string(d) << " " << i;
+      EXPECT_NE(format_case(a), format_case(c)) << gen::to_string(d) << " " << i;
+    }
+  }
+}
+
+TEST(Generators, EveryDistributionGivesValidCases) {
+  for (gen::Distribution d : gen::parse_distributions("all"))
+    for (std::uint64_t i = 0; i < 300; ++i) {
+      const gen::GenCase g = gen::draw(d, 1, i).value();
+      EXPECT_NO_THROW(validate(g.volume)) << gen::to_string(d) << " " << i;
+      EXPECT_NO_THROW(validate(g.frustum.planes)) << gen::to_string(d) << " " << i;
+      EXPECT_GT(g.scene_size, 0.0);
+    }
+}
+
+// The touch family is built to touch: never strictly separated from the frustum.
+TEST(Generators, TouchCasesAreNeverOutside) {
+  int intersecting = 0, inside = 0;
+  for (std::uint64_t i = 0; i < 400; ++i) {
+    const gen::GenCase g = gen::draw(gen::Distribution::touch, 3, i).value();
+    const V t = oracle::truth(g.frustum, g.volume);
+    EXPECT_NE(t, V::outside) << "touch case " << i;
+    intersecting += t == V::intersecting;
+    inside += t == V::inside;
+  }
+  EXPECT_GT(intersecting, 100);
+  EXPECT_GT(inside, 50);
+}
+
+// Rods cross the frustum with no corner inside it.
+TEST(Generators, RodsHaveNoCornerInside) {
+  int crossing = 0;
+  for (std::uint64_t i = 0; i < 300; ++i) {
+    const gen::GenCase g = gen::draw(gen::Distribution::rod, 5, i).value();
+    const Obb b = std::holds_alternative<Obb>(g.volume) ? std::get<Obb>(g.volume) : to_obb(std::get<Aabb>(g.volume));
+    int corners_inside = 0;
+    for (int k = 0; k < 8; ++k) {
+      glm::vec3 p = b.center;
+      for (int a = 0; a < 3; ++a) p += ((k >> a) & 1 ? 1.0f : -1.0f) * b.half[a] * b.axes[a];
+      bool in = true;
+      for (const Plane& pl : g.frustum.planes.planes) in = in && pl.eval(p) >= 0.0f;
+      corners_inside += in;
+    }
+    EXPECT_EQ(corners_inside, 0) << "rod " << i;
+    crossing += oracle::truth(g.frustum, g.volume) == V::intersecting;
+  }
+  EXPECT_GT(crossing, 150);
+}
+
+TEST(Campaign, SameSeedSameVerdictsAndCorpusDeduplicates) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-campaign-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  VerifyOptions o;
+  o.cases = 400;
+  o.seed = 11;
+  o.distributions = {gen::Distribution::rod, gen::Distribution::corner};
+  o.methods = {"hoff96", "pn-vertex-reverse"};
+  o.threads = 2;
+  o.corpus = dir;
+  o.progress = false;
+  o.timing = false;
+  const VerifyResult a = run_verify(o);
+  auto counts = [](const VerifyResult& r) {
+    nlohmann::json j = to_json(r);
+    for (auto& d : j["distributions"])
+      for (auto& m : d["methods"]) {
+        m.erase("ns_per_test");
+        m.erase("corpus_written");
+      }
+    j.erase("wall_seconds");
+    return j;
+  };
+  // hoff96 falsely rejects rods: the campaign finds it and writes the evidence.
+  EXPECT_GT(a.distributions[0].methods[0].false_reject, 0u);
+  EXPECT_TRUE(a.distributions[0].methods[0].refuted());
+  EXPECT_FALSE(a.own_claim_broken());
+  const auto entries = load_corpus(dir);
+  EXPECT_FALSE(entries.empty());
+  for (const CorpusEntry& e : entries) {
+    const ReplayResult r = replay(e);
+    EXPECT_TRUE(r.reproduces) << e.file;
+    EXPECT_FALSE(r.truth_changed) << e.file;
+  }
+  const VerifyResult b = run_verify(o);
+  EXPECT_EQ(counts(a), counts(b));
+  std::size_t written_again = 0;
+  for (const auto& d : b.distributions)
+    for (const auto& m : d.methods) written_again += m.corpus_written.size();
+  EXPECT_EQ(written_again, 0u);  // the same minimal cases exist already
+  EXPECT_EQ(load_corpus(dir).size(), entries.size());
+  std::filesystem::remove_all(dir);
+}
