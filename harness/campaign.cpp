@@ -54,6 +54,136 @@ bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance
   return false;
 }
 
+namespace {
+
+// Planes in double, normalised: the float planes for plane cases; for end-to-end cases the row
+// sums of the float matrix taken in double. Degenerate planes: all space is dropped, nothing
+// gives an empty list and `empty`.
+struct DPlanes {
+  std::vector<glm::dvec4> p;
+  bool empty = false;
+};
+
+DPlanes double_planes(const CaseFrustum& f) {
+  DPlanes out;
+  std::array<glm::dvec4, 6> raw;
+  if (f.matrix) {
+    glm::dvec4 r[4];
+    for (int i = 0; i < 4; ++i) r[i] = glm::dvec4(matrix_row(*f.matrix, i));
+    raw[kLeft] = r[3] + r[0];
+    raw[kRight] = r[3] - r[0];
+    raw[kBottom] = r[3] + r[1];
+    raw[kTop] = r[3] - r[1];
+    const glm::dvec4 lower = f.depth.range == DepthRange::negative_one_to_one ? r[3] + r[2] : r[2];
+    const glm::dvec4 upper = r[3] - r[2];
+    raw[kNear] = f.depth.reversed_z ? upper : lower;
+    raw[kFar] = f.depth.reversed_z ? lower : upper;
+  } else {
+    for (int k = 0; k < 6; ++k) raw[k] = glm::dvec4(glm::dvec3(f.planes[k].n), double(f.planes[k].d));
+  }
+  for (const glm::dvec4& q : raw) {
+    const double len = glm::length(glm::dvec3(q));
+    if (len == 0.0) {
+      if (q.w < 0.0) out.empty = true;
+      continue;
+    }
+    out.p.push_back(q / len);
+  }
+  return out;
+}
+
+// mu = max over t in [-1,1]^3 of min_j (s_j(c) + sum_i t_i g_ji), by enumerating the vertices of
+// the LP in (t, mu): every choice of 4 active constraints among the planes and the 6 bounds.
+double max_min_depth(const std::vector<glm::dvec4>& planes, const glm::dvec3& c, const glm::dvec3 (&e)[3]) {
+  struct Row {
+    double a[4];
+    double b;  // a . (t, mu) >= b
+  };
+  std::vector<Row> rows;
+  for (const glm::dvec4& q : planes) {
+    const glm::dvec3 n(q);
+    // s(c) + sum t_i (n . e_i) - mu >= 0
+    rows.push_back(Row{{glm::dot(n, e[0]), glm::dot(n, e[1]), glm::dot(n, e[2]), -1.0}, -(glm::dot(n, c) + q.w)});
+  }
+  for (int i = 0; i < 3; ++i) {
+    Row lo{{0, 0, 0, 0}, -1.0}, hi{{0, 0, 0, 0}, -1.0};
+    lo.a[i] = 1.0;   // t_i >= -1
+    hi.a[i] = -1.0;  // -t_i >= -1
+    rows.push_back(lo);
+    rows.push_back(hi);
+  }
+  const int n = int(rows.size());
+  double best = -std::numeric_limits<double>::infinity();
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      for (int c2 = b + 1; c2 < n; ++c2)
+        for (int d = c2 + 1; d < n; ++d) {
+          const int idx[4] = {a, b, c2, d};
+          glm::dmat4 m;
+          glm::dvec4 rhs;
+          for (int r = 0; r < 4; ++r) {
+            for (int k = 0; k < 4; ++k) m[k][r] = rows[std::size_t(idx[r])].a[k];
+            rhs[r] = rows[std::size_t(idx[r])].b;
+          }
+          const double det = glm::determinant(m);
+          if (std::abs(det) < 1e-14) continue;
+          const glm::dvec4 y = glm::inverse(m) * rhs;
+          bool ok = true;
+          for (const Row& row : rows) {
+            const double lhs = row.a[0] * y.x + row.a[1] * y.y + row.a[2] * y.z + row.a[3] * y.w;
+            if (lhs < row.b - 1e-9 * (1.0 + std::abs(row.b))) {
+              ok = false;
+              break;
+            }
+          }
+          if (ok) best = std::max(best, y.w);
+        }
+  return best;
+}
+
+}  // namespace
+
+double backward_distance(const CaseFrustum& f, const Volume& v, ErrorClass e) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  if (e == ErrorClass::correct || std::holds_alternative<Sphere>(v)) return inf;
+  const DPlanes dp = double_planes(f);
+  if (dp.empty) return inf;
+  glm::dvec3 c;
+  glm::dvec3 ax[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+  if (const Point* p = std::get_if<Point>(&v)) {
+    c = glm::dvec3(*p);
+  } else {
+    const Obb b = std::holds_alternative<Aabb>(v) ? to_obb(std::get<Aabb>(v)) : std::get<Obb>(v);
+    if (const Aabb* a = std::get_if<Aabb>(&v)) {  // exact centre and half-extents in double
+      c = (glm::dvec3(a->min) + glm::dvec3(a->max)) * 0.5;
+      for (int i = 0; i < 3; ++i) ax[i][i] = (double(a->max[i]) - double(a->min[i])) * 0.5;
+    } else {
+      c = glm::dvec3(b.center);
+      for (int i = 0; i < 3; ++i) ax[i] = glm::dvec3(b.axes[i]) * double(b.half[i]);
+    }
+  }
+  // Extremes of each plane over the box: s_j(c) +- sum_i |n_j . e_i|.
+  double protrusion = -inf, clearance = inf;
+  for (const glm::dvec4& q : dp.p) {
+    const glm::dvec3 n(q);
+    const double s = glm::dot(n, c) + q.w;
+    const double r = std::abs(glm::dot(n, ax[0])) + std::abs(glm::dot(n, ax[1])) + std::abs(glm::dot(n, ax[2]));
+    protrusion = std::max(protrusion, -(s - r));
+    clearance = std::min(clearance, s - r);
+  }
+  switch (e) {
+    case ErrorClass::false_inside: return std::max(0.0, protrusion);
+    case ErrorClass::under_inside: return std::max(0.0, clearance);
+    case ErrorClass::false_reject: return std::max(0.0, max_min_depth(dp.p, c, ax));
+    case ErrorClass::false_intersect: return std::max(0.0, -max_min_depth(dp.p, c, ax));
+    default: return inf;
+  }
+}
+
+double error_distance(const CaseFrustum& f, const Volume& v, ErrorClass e, double oracle_distance) {
+  return std::min(oracle_distance, backward_distance(f, v, e));
+}
+
 bool VerifyResult::own_claim_broken() const noexcept {
   for (const auto& d : distributions)
     for (const auto& m : d.methods)
@@ -172,8 +302,8 @@ std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
 }
 
 // Shrinks a mismatch: the simplest case of the Shrinkable tree on which `m` still makes an error
-// of class `cls`, within `budget` oracle calls.
-GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, int budget) {
+// of class `cls` (and, for a claim violation, still violates the claim), within `budget` steps.
+GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, bool violation, int budget) {
   rc::Shrinkable<gen::GenCase> cur = start;
   bool progress = true;
   while (progress && budget > 0) {
@@ -186,7 +316,15 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
         validate(c.volume);
         const auto v = run_method(m, c);
         if (!v) continue;
-        if (error_class(*v, oracle::truth(c.frustum, c.volume)) == cls) {
+        if (error_class(*v, oracle::truth(c.frustum, c.volume)) != cls) continue;
+        // A claim violation must shrink to a claim violation (not to a rounding-level error).
+        if (violation) {
+          const oracle::Result r = oracle::classify(c.frustum, c.volume, oracle::Options{true, true, false});
+          if (!violates_claim(m.claim, cls, error_distance(c.frustum, c.volume, cls, r.distance), m.tolerance,
+                              gen::case_scale(c.frustum, c.volume)))
+            continue;
+        }
+        {
           cur = *next;
           progress = true;
           break;
@@ -224,7 +362,9 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   x["class"] = to_string(cls);
   x["claim"] = std::string(to_string(m.claim));
   const double scale = gen::case_scale(g.frustum, g.volume);
-  x["violates_claim"] = violates_claim(m.claim, cls, r.distance, m.tolerance, scale);
+  const double backward = backward_distance(g.frustum, g.volume, cls);
+  x["violates_claim"] = violates_claim(m.claim, cls, std::min(r.distance, backward), m.tolerance, scale);
+  x["backward_distance"] = std::isfinite(backward) ? nlohmann::json(backward) : nlohmann::json(nullptr);
   x["distribution"] = std::string(gen::to_string(d));
   x["distance"] = std::isfinite(r.distance) ? nlohmann::json(r.distance) : nlohmann::json(nullptr);
   x["distance_kind"] = oracle::to_string(r.distance_kind);
@@ -321,7 +461,7 @@ VerifyResult run_verify(const VerifyOptions& opt) {
       s.method = m.name;
       s.claim = m.claim;
       s.published = m.published;
-      std::map<ErrorClass, int> written;
+      std::map<ErrorClass, int> written, violations_written;
       for (std::uint64_t i = 0; i < per; ++i) {
         if (out[i].verdict[k] < 0) continue;
         const Visibility v = Visibility(out[i].verdict[k]), t = out[i].truth;
@@ -341,15 +481,18 @@ VerifyResult run_verify(const VerifyOptions& opt) {
         const oracle::Result r = oracle::classify(cases[i].frustum, cases[i].volume,
                                                   oracle::Options{true, true, false});
         const double scale = gen::case_scale(cases[i].frustum, cases[i].volume);
-        const bool violation = violates_claim(m.claim, cls, r.distance, m.tolerance, scale);
+        const bool violation = violates_claim(
+            m.claim, cls, error_distance(cases[i].frustum, cases[i].volume, cls, r.distance), m.tolerance, scale);
         if (violation) ++s.claim_violations;
         if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(r.distance / cases[i].scene_size);
-        // Corpus: claim violations first-class; other errors sampled per class.
-        if (opt.corpus && (violation || written[cls] < opt.corpus_per_class)) {
-          if (!violation && written[cls] >= opt.corpus_per_class) continue;
-          if (violation && written[cls] >= 4 * opt.corpus_per_class) continue;
-          ++written[cls];
-          const GenCase small = shrink(gen::draw(d, opt.seed, first + i), m, cls, opt.shrink_budget);
+        // Corpus: up to kViolationsPerClass claim violations per (method, distribution, class),
+        // and corpus_per_class of the other errors (the expected false intersects and
+        // under-insides of conservative methods), counted apart.
+        constexpr int kViolationsPerClass = 4;
+        int& quota = violation ? violations_written[cls] : written[cls];
+        if (opt.corpus && quota < (violation ? kViolationsPerClass : opt.corpus_per_class)) {
+          ++quota;
+          const GenCase small = shrink(gen::draw(d, opt.seed, first + i), m, cls, violation, opt.shrink_budget);
           const auto vs = run_method(m, small);
           if (!vs) continue;
           const std::string id = write_corpus_case(*opt.corpus, small, m, *vs, d, opt.seed, first + i, ms);

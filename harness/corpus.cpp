@@ -38,12 +38,24 @@ std::string need_string(const nlohmann::json& x, const char* key, const std::str
 
 }  // namespace
 
-std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir) {
+std::vector<std::filesystem::path> corpus_case_files(const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> files;
-  if (std::filesystem::exists(dir))
-    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
-      if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path());
+  if (!std::filesystem::exists(dir)) return files;
+  for (auto it = std::filesystem::recursive_directory_iterator(dir); it != std::filesystem::recursive_directory_iterator();
+       ++it) {
+    // corpus/scenes/ (scene files) and corpus/scenes-*/ are not mismatch cases.
+    if (it->is_directory() && it.depth() == 0 && it->path().filename().string().rfind("scenes", 0) == 0) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (it->is_regular_file() && it->path().extension() == ".json") files.push_back(it->path());
+  }
   std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir) {
+  const std::vector<std::filesystem::path> files = corpus_case_files(dir);
   std::vector<CorpusEntry> out;
   for (const auto& file : files) {
     CorpusEntry e;

@@ -91,6 +91,7 @@ void validate(const Plane& p, std::string_view what) {
 }
 
 void validate(const Frustum& f, std::string_view what) {
+  if (is_valid(f)) return;
   for (int i = 0; i < kPlaneCount; ++i)
     validate(f[i], std::string(what) + "." + std::string(plane_name(i)));
 }
@@ -125,7 +126,33 @@ void validate(const Sphere& s, std::string_view what) {
   if (s.radius < 0.0f) fail(std::string(what) + ".radius", "is negative (" + std::to_string(s.radius) + ")");
 }
 
+namespace {
+
+bool finite3(const glm::vec3& v) noexcept { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+bool is_valid(const Volume& v) noexcept {
+  if (const auto* p = std::get_if<Point>(&v)) return finite3(*p);
+  if (const auto* a = std::get_if<Aabb>(&v))
+    return finite3(a->min) && finite3(a->max) && a->min.x <= a->max.x && a->min.y <= a->max.y && a->min.z <= a->max.z;
+  if (const auto* o = std::get_if<Obb>(&v)) {
+    bool ok = finite3(o->center) && finite3(o->half) && o->half.x >= 0.0f && o->half.y >= 0.0f && o->half.z >= 0.0f;
+    for (int i = 0; i < 3; ++i) ok = ok && finite3(o->axes[i]) && o->axes[i] != glm::vec3(0.0f);
+    return ok;
+  }
+  const Sphere& s = std::get<Sphere>(v);
+  return finite3(s.center) && std::isfinite(s.radius) && s.radius >= 0.0f;
+}
+
+bool is_valid(const Frustum& f) noexcept {
+  for (const Plane& p : f.planes)
+    if (!finite3(p.n) || !std::isfinite(p.d)) return false;
+  return true;
+}
+
 void validate(const Volume& v, std::string_view what) {
+  if (is_valid(v)) return;  // the named checks below build strings: only on failure
   std::visit([&](const auto& x) { validate(x, what); }, v);
 }
 

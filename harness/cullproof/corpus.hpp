@@ -24,7 +24,10 @@ struct CorpusEntry {
 
 /// 12 hex digits identifying the geometry (FNV-1a of the canonical frustum and volume text).
 std::string geometry_hash(const CaseFrustum& f, const Volume& v);
-/// Reads every *.json under `dir` (sorted by path). Throws CaseError for a malformed file and
+/// The mismatch case files under `dir` (every *.json, sorted by path), leaving out the scene
+/// directories corpus/scenes/ and corpus/scenes-*/.
+std::vector<std::filesystem::path> corpus_case_files(const std::filesystem::path& dir);
+/// Reads every case file under `dir` (corpus_case_files). Throws CaseError for a malformed file and
 /// std::runtime_error for a file that lacks the mismatch record (naming the file and field).
 std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir);
 

@@ -180,7 +180,11 @@ void register_cull_methods(std::vector<Method>& out) {
                      }));
   out.push_back(own(make("perspective-transform",
                      "DirectModel baseline corrected: NDC AABB when all w > 0, homogeneous outcodes otherwise",
-                     am + "§2 and fig. 1 (DirectModel), corrected for corners behind the eye", Claim::conservative,
+                     // Claim none: conservative in exact arithmetic, but the float clip transform and the
+                     // division by w carry errors no tolerance of the plane model bounds; the oracle
+                     // found false rejects far beyond it on extreme-fov and corner cases (corpus/
+                     // perspective-transform/). It stays the Table 1 baseline, measured, not trusted.
+                     am + "§2 and fig. 1 (DirectModel), corrected for corners behind the eye", Claim::none,
                      kAabbKind, "strict rejection (hi < -1, w + x < 0): touching from outside intersecting",
                      kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
                        DepthConvention depth;

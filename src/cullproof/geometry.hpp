@@ -99,6 +99,12 @@ class ValidationError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// The conditions of validate() below, as a cheap yes/no (no message is built): every value
+/// finite, min <= max, half-extents and radius >= 0, no zero-length OBB axis.
+bool is_valid(const Volume& v) noexcept;
+/// Every plane coefficient finite.
+bool is_valid(const Frustum& f) noexcept;
+
 /// Is this a valid point? Every component finite. Throws ValidationError naming `what`.
 void validate(const Point& p, std::string_view what = "point");
 /// Is this a valid plane? Every coefficient finite.

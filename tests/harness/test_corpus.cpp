@@ -12,15 +12,7 @@ using namespace cullproof;
 
 namespace {
 
-std::vector<std::filesystem::path> corpus_files() {
-  std::vector<std::filesystem::path> out;
-  const std::filesystem::path dir(CULLPROOF_CORPUS_DIR);
-  if (std::filesystem::exists(dir))
-    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
-      if (e.is_regular_file() && e.path().extension() == ".json") out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
+std::vector<std::filesystem::path> corpus_files() { return corpus_case_files(CULLPROOF_CORPUS_DIR); }
 
 class Corpus : public ::testing::TestWithParam<std::filesystem::path> {};
 

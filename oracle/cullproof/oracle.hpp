@@ -1,0 +1,122 @@
+// cullproof::oracle — exact ground truth for frustum culling (issue 3).
+//
+// Truth is shared/CONVENTIONS.md "Ground truth": outside when B ∩ F is empty, inside when
+// B ⊆ F, intersecting otherwise, for closed B and F, computed exactly from the float values.
+// A matrix case is classified end to end: F is the Gribb–Hartmann extraction from the float
+// matrix entries with rows added in exact arithmetic, never the float-rounded planes.
+//
+// Two layers, as in CGAL's filtered predicates:
+//  1. an interval filter (CGAL::Interval_nt under Protect_FPU_rounding) that answers only
+//     when its interval bounds prove the answer;
+//  2. the exact route: every float converted losslessly to CGAL::Gmpzf / Gmpq, containment
+//     by exact corner evaluation, B ∩ F ≠ ∅ as an exact LP in t ∈ [-1,1]^3 (boxes) or an
+//     exact QP (spheres), both with CGAL's QP solver.
+// Every answer carries a certificate that the oracle checks before answering (a point of
+// B ∩ F, or a separating plane Σ λ_j plane_j with λ ≥ 0 that B lies strictly behind); a failed
+// check throws OracleError, it never returns an answer.
+//
+// A second, independent exact method (classify_independent: vertex enumeration of B ∩ F in
+// integer arithmetic, no CGAL solver) exists only to cross-check the first.
+//
+// This header does not include CGAL: the CLI and the harness link cullproof::oracle without
+// compiling CGAL themselves.
+#pragma once
+
+#include "cullproof/frustum_build.hpp"
+#include "cullproof/geometry.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <stdexcept>
+
+namespace cullproof::oracle {
+
+/// Thrown when the oracle's own certificate fails its exact check (a bug, never an answer).
+class OracleError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+/// What Result::distance measures, by truth (all lengths in the input's units, Euclidean):
+///  - outside:      the Euclidean distance between B and F, min |b - q| over b ∈ B, q ∈ F
+///                  (for a ball: dist(centre, F) - r). The squared distance is an exact QP
+///                  optimum; the oracle checks the optimal pair is feasible, realises it, and is
+///                  optimal (exact KKT multipliers give a plane proving the matching lower
+///                  bound); then one square root in double. +infinity when F is empty.
+///  - inside:       the clearance min_j min_{x∈B} (n_j·x + d_j)/|n_j| over planes with n ≠ 0:
+///                  exactly the length of the shortest translation that makes B stop being
+///                  inside (+infinity when every plane is "all space").
+///  - intersecting: min(penetration, protrusion), where
+///                  penetration = min_j max_{x∈B} (n_j·x + d_j)/|n_j|: the shortest translation
+///                    along a frustum-plane normal after which B only touches F (any further
+///                    and B is outside); an upper bound on the true penetration depth;
+///                  protrusion = max_j max(0, -min_{x∈B} (n_j·x + d_j)/|n_j|): how far the
+///                    farthest point of B lies beyond one plane; a lower bound on any
+///                    translation that makes B inside.
+///                  Both are also in the witness.
+/// Every quantity is formed exactly and rounded once or twice at the end (a quotient and a
+/// square root): relative error below 4 ulp of double. Degenerate planes (n == 0) take no part.
+enum class DistanceKind : std::uint8_t { euclidean, margin, clearance, none };
+
+/// The oracle's answer for one case.
+struct Result {
+  Visibility truth = Visibility::outside;  ///< exact truth (CONVENTIONS "Ground truth")
+  double distance = 0.0;                   ///< see DistanceKind; NaN when not requested
+  DistanceKind distance_kind = DistanceKind::none;  ///< what `distance` measures
+  /// The checked certificate. {"kind":"point","point":["p/q",..],"point_approx":[..]} for
+  /// inside / intersecting (an exact point of B ∩ F); intersecting adds "violated_plane" (index
+  /// of a plane some point of B violates) and, for boxes, "outside_corner" (that corner, exact);
+  /// "inside" itself is proved by evaluating every corner (or the ball's offset) exactly;
+  /// {"kind":"separating_plane",
+  /// "plane":["p/q"x4],"plane_approx":[..],"multipliers":[6 rationals, one per frustum plane]}
+  /// for outside: plane = Σ λ_j plane_j with λ ≥ 0 (so F lies in it) and B strictly behind it.
+  /// Empty when Options::witness_json is false (the certificate is still checked).
+  nlohmann::json witness;
+  bool filtered = false;  ///< decided by the interval filter (no exact solver call)
+};
+
+/// Per-call switches. The truth and its certificate check are never skipped. Member order is
+/// stable (callers use aggregate initialisation: Options{filter, distance, witness_json}).
+struct Options {
+  bool filter = true;        ///< try the interval filter before the exact route
+  bool distance = true;      ///< compute Result::distance (an exact QP for outside volumes)
+  bool witness_json = true;  ///< write the certificate into Result::witness as exact rationals
+};
+
+/// Exact classification of v against f with checked certificate and distance. Thread-safe.
+/// Throws ValidationError for invalid input, OracleError when a self-check fails.
+Result classify(const CaseFrustum& f, const Volume& v);
+/// As classify(f, v), with per-call options (e.g. truth only, or exact route only). Thread-safe.
+Result classify(const CaseFrustum& f, const Volume& v, const Options& options);
+/// Truth only: classify with the filter, no distance, no witness JSON. Thread-safe.
+Visibility truth(const CaseFrustum& f, const Volume& v);
+
+/// {"truth": "...", "distance": x (null when infinite or not computed), "distance_kind": "...",
+/// "filtered": bool, "witness": {...}}.
+nlohmann::json to_json(const Result& r);
+/// "euclidean", "margin", "clearance" or "none".
+const char* to_string(DistanceKind k) noexcept;
+
+/// The independent exact method, used only to cross-check classify: exact rationals/integers,
+/// vertex enumeration of {t ∈ [-1,1]^3 : plane_j(c + Σ t_i e_i) ≥ 0} for boxes and points,
+/// closest-point enumeration over faces of F for spheres. No CGAL solver, no filter. Thread-safe.
+Visibility classify_independent(const CaseFrustum& f, const Volume& v);
+
+/// Counters since start (or the last reset_stats), updated atomically by classify.
+struct Stats {
+  std::uint64_t calls = 0;      ///< classify calls with the filter enabled
+  std::uint64_t filtered = 0;   ///< of those, decided by the interval filter
+  std::uint64_t fallbacks = 0;  ///< of those, sent to the exact route
+  std::uint64_t exact_lp = 0;   ///< exact LP solves (feasibility, certificate, distance QP)
+  /// fallbacks / calls (0 when no calls).
+  double fallback_fraction() const noexcept {
+    return calls == 0 ? 0.0 : static_cast<double>(fallbacks) / static_cast<double>(calls);
+  }
+};
+/// A snapshot of the counters (each read atomically; the set is not one atomic snapshot).
+Stats stats() noexcept;
+/// Sets every counter to zero.
+void reset_stats() noexcept;
+
+}  // namespace cullproof::oracle

@@ -1,0 +1,51 @@
+// Every committed case (corpus/ and examples/) through the oracle and the independent method:
+// zero disagreements, and where a case records a truth, the oracle reproduces it.
+#include "cullproof/case_io.hpp"
+#include "cullproof/oracle.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+namespace cullproof::oracle::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> case_files() {
+  std::vector<fs::path> out;
+  for (const char* dir : {"corpus", "examples"}) {
+    if (!fs::exists(dir)) continue;
+    for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator(); ++it) {
+      // corpus/scenes*/ hold scene descriptions, not cases.
+      if (it->is_directory() && it.depth() == 0 && it->path().filename().string().rfind("scenes", 0) == 0) {
+        it.disable_recursion_pending();
+        continue;
+      }
+      const auto ext = it->path().extension();
+      if (it->is_regular_file() && (ext == ".json" || ext == ".jsonl")) out.push_back(it->path());
+    }
+  }
+  return out;
+}
+
+TEST(OracleCorpus, EveryCommittedCaseAgreesWithTheIndependentMethod) {
+  int n = 0;
+  for (const fs::path& file : case_files()) {
+    for (const Case& c : read_cases(file)) {
+      ++n;
+      const Result r = classify(c.frustum, c.volume);
+      EXPECT_EQ(r.truth, classify_independent(c.frustum, c.volume)) << file << " " << c.id;
+      if (c.truth) {
+        EXPECT_EQ(r.truth, *c.truth) << file << " " << c.id << ": recorded truth";
+      }
+    }
+  }
+  std::cout << n << " committed cases checked\n";
+  EXPECT_GT(n, 0) << "no case files found under corpus/ or examples/";
+}
+
+}  // namespace
+}  // namespace cullproof::oracle::test
