@@ -183,6 +183,7 @@ void patch(std::size_t count, std::size_t words, const std::uint64_t* unsafe, st
 }
 
 void clear(std::size_t words, std::uint64_t* visible, std::uint64_t* inside) {
+  if (words == 0) return;  // the arrays may be null then
   std::memset(visible, 0, words * sizeof(std::uint64_t));
   if (inside) std::memset(inside, 0, words * sizeof(std::uint64_t));
 }

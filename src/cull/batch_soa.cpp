@@ -205,6 +205,7 @@ void spheres(const Frustum& f, const SphereSoa& s, std::uint64_t* visible, std::
     const Plane& p = f[k];
     if (p.is_degenerate()) {
       if (p.d < 0.0f) {  // contains nothing: every sphere is outside
+        if (words == 0) return;  // (no words: the arrays may be null, which memset does not take)
         std::memset(visible, 0, words * sizeof(std::uint64_t));
         if (inside) std::memset(inside, 0, words * sizeof(std::uint64_t));
         return;
