@@ -239,15 +239,6 @@ std::array<glm::mat4, 2> stereo_view_projections(const StereoRig& rig, DepthConv
 
 namespace {
 
-bool solve3(const Plane& a, const Plane& b, const Plane& c, glm::dvec3& x) {
-  const glm::dvec3 na(a.n), nb(b.n), nc(c.n);
-  const glm::dvec3 bc = glm::cross(nb, nc);
-  const double det = glm::dot(na, bc);
-  if (det == 0.0 || !std::isfinite(det)) return false;
-  x = (-double(a.d) * bc - double(b.d) * glm::cross(nc, na) - double(c.d) * glm::cross(na, nb)) / det;
-  return std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z);
-}
-
 bool corners_impl(const Frustum& f, std::array<glm::dvec3, 8>& out) {
   for (const Plane& p : f.planes)
     if (p.is_degenerate()) return false;
@@ -255,12 +246,25 @@ bool corners_impl(const Frustum& f, std::array<glm::dvec3, 8>& out) {
     const Plane& lr = f[(i & 1) ? kRight : kLeft];
     const Plane& bt = f[(i & 2) ? kTop : kBottom];
     const Plane& nf = f[(i & 4) ? kFar : kNear];
-    if (!solve3(lr, bt, nf, out[static_cast<std::size_t>(i)])) return false;
+    const auto x = planes_meet(lr, bt, nf);
+    if (!x) return false;
+    out[static_cast<std::size_t>(i)] = *x;
   }
   return true;
 }
 
 }  // namespace
+
+std::optional<glm::dvec3> planes_meet(const Plane& a, const Plane& b, const Plane& c) noexcept {
+  const glm::dvec3 na(a.n), nb(b.n), nc(c.n);
+  const glm::dvec3 bc = glm::cross(nb, nc);
+  const double det = glm::dot(na, bc);
+  if (det == 0.0 || !std::isfinite(det)) return std::nullopt;
+  const glm::dvec3 x =
+      (-double(a.d) * bc - double(b.d) * glm::cross(nc, na) - double(c.d) * glm::cross(na, nb)) / det;
+  if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) return std::nullopt;
+  return x;
+}
 
 std::array<glm::dvec3, 8> frustum_corners(const Frustum& f) {
   std::array<glm::dvec3, 8> out{};

@@ -2,6 +2,7 @@
 #include "cullproof/geometry.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace cullproof {
@@ -58,6 +59,18 @@ std::string_view volume_kind_name(unsigned kind_bit) noexcept {
     case kObbKind: return "obb";
     default: return "invalid";
   }
+}
+
+float float_at_least(double v) noexcept {
+  float f = static_cast<float>(v);
+  if (double(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+float float_at_most(double v) noexcept {
+  float f = static_cast<float>(v);
+  if (double(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
 }
 
 Obb to_obb(const Aabb& b) noexcept { return Obb{b.center(), glm::mat3(1.0f), b.half_extent()}; }

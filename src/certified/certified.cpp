@@ -59,18 +59,6 @@ namespace {
 
 constexpr float kTiny = 0x1p-126f;  // covers absolute underflow errors
 
-float round_up(double v) {
-  float f = static_cast<float>(v);
-  if (double(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  return f;
-}
-
-float round_down(double v) {
-  float f = static_cast<float>(v);
-  if (double(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-
 // Per-frame derivation of the margins (see the header): alpha = 2^-21 A and 2^-20 A are exact
 // power-of-two scalings of A' (unless subnormal, covered by kTiny); beta = 2^-21 a_d + kTiny.
 // Computing t = alpha M + beta rounds twice, a factor (1 - u)^2 the margins above allow for.
@@ -81,11 +69,11 @@ void derive(CertifiedFrustum& c) {
   c.active_count = 0;
   c.empty = false;
   for (int k = 0; k < 6; ++k) {
-    c.bound_sum[k] = round_up(double(c.bound[k].x) + double(c.bound[k].y) + double(c.bound[k].z));
+    c.bound_sum[k] = float_at_least(double(c.bound[k].x) + double(c.bound[k].y) + double(c.bound[k].z));
     c.alpha_narrow[k] = 0x1p-21f * c.bound_sum[k];
-    c.beta_narrow[k] = round_up(0x1p-21 * double(c.bound[k].w) + double(kTiny));
+    c.beta_narrow[k] = float_at_least(0x1p-21 * double(c.bound[k].w) + double(kTiny));
     c.alpha_wide[k] = 0x1p-20f * c.bound_sum[k];
-    c.beta_wide[k] = round_up(0x1p-20 * double(c.bound[k].w) + double(kTiny));
+    c.beta_wide[k] = float_at_least(0x1p-20 * double(c.bound[k].w) + double(kTiny));
     const Plane& p = c.planes[k];
     if (p.is_degenerate()) {
       // n^ == 0 exactly iff n == 0, and sign(d^) == sign(d): decided exactly.
@@ -97,7 +85,7 @@ void derive(CertifiedFrustum& c) {
     d_max = std::max(d_max, double(c.bound[k].w));
   }
   const double room = 0x1p120 - d_max;
-  c.m_safe = a_max > 0.0 ? round_down(room / a_max) : std::numeric_limits<float>::max();
+  c.m_safe = a_max > 0.0 ? float_at_most(room / a_max) : std::numeric_limits<float>::max();
   if (!(room > 0.0)) c.m_safe = 0.0f;
 }
 
@@ -148,7 +136,7 @@ CertifiedFrustum certify_matrix(const glm::mat4& m, DepthConvention depth) {
                           glm::abs(matrix_row(m, 3))};
   auto sum = [](const glm::vec4& a, const glm::vec4& b) {
     glm::vec4 out;
-    for (int i = 0; i < 4; ++i) out[i] = round_up(double(a[i]) + double(b[i]));
+    for (int i = 0; i < 4; ++i) out[i] = float_at_least(double(a[i]) + double(b[i]));
     return out;
   };
   c.bound[kLeft] = c.bound[kRight] = sum(r[3], r[0]);

@@ -26,17 +26,6 @@ namespace cullproof {
 
 namespace {
 
-float round_up(double v) {
-  float f = static_cast<float>(v);
-  if (double(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  return f;
-}
-float round_down(double v) {
-  float f = static_cast<float>(v);
-  if (double(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-
 // The box's bounding sphere in float, radius rounded up: each of the subtractions, squares,
 // sums and the square root has relative error <= 2^-24, together < 8 * 2^-24 = 2^-21, so the
 // factor (1 + 2^-20) (itself rounded down by at most 2^-24) makes the radius at least the exact
@@ -72,10 +61,10 @@ FrustumBounds frustum_bounds(const Frustum& f) {
   out.sphere_center = glm::vec3(centre);
   double r = 0.0;
   for (const auto& p : c) r = std::max(r, glm::length(p - glm::dvec3(out.sphere_center)));
-  out.sphere_radius = round_up(r);
+  out.sphere_radius = float_at_least(r);
   for (int k = 0; k < 3; ++k) {
-    out.box.min[k] = round_down(lo[k]);
-    out.box.max[k] = round_up(hi[k]);
+    out.box.min[k] = float_at_most(lo[k]);
+    out.box.max[k] = float_at_least(hi[k]);
   }
   return out;
 }

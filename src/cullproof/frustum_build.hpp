@@ -123,6 +123,10 @@ glm::mat4 off_axis_projection(float left, float right, float bottom, float top, 
 glm::mat4 orthographic_projection(float left, float right, float bottom, float top,
                                   float near_dist, float far_dist, DepthConvention depth = {});
 
+/// The point where three planes meet (Cramer's rule in double), or nullopt when they do not meet
+/// in one point (or the result is not finite).
+std::optional<glm::dvec3> planes_meet(const Plane& a, const Plane& b, const Plane& c) noexcept;
+
 /// The 8 corners of a bounded frustum, computed in double by intersecting plane triples.
 /// Index bits: bit 0 right (else left), bit 1 top (else bottom), bit 2 far (else near).
 /// Throws std::domain_error when the frustum is unbounded (a degenerate plane, or three planes

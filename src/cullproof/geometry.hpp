@@ -99,6 +99,11 @@ class ValidationError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// The smallest float >= v (v finite): rounds a double bound up without losing its guarantee.
+float float_at_least(double v) noexcept;
+/// The largest float <= v (v finite).
+float float_at_most(double v) noexcept;
+
 /// The conditions of validate() below, as a cheap yes/no (no message is built): every value
 /// finite, min <= max, half-extents and radius >= 0, no zero-length OBB axis.
 bool is_valid(const Volume& v) noexcept;

@@ -37,23 +37,7 @@ std::optional<Visibility> hoff96(const Frustum& f, const Obb& b, const glm::vec3
     return v;
   };
   const auto v = obb_corners(b);
-  unsigned code[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  static constexpr int kOrder[6] = {kNear, kLeft, kRight, kBottom, kTop, kFar};
-  for (int plane : kOrder) {
-    unsigned all = ~0u;
-    for (int i = 0; i < 8; ++i) {
-      if (f[plane].eval(v[static_cast<std::size_t>(i)]) < 0.0f) code[i] |= 1u << plane;
-      all &= code[i];
-    }
-    if (all != 0u) return end(HoffStage::trivial_reject, Visibility::outside);
-  }
-  bool every_zero = true;
-  bool some_zero = false;
-  for (unsigned c : code) {
-    every_zero = every_zero && c == 0u;
-    some_zero = some_zero || c == 0u;
-  }
-  if (some_zero) return end(HoffStage::trivial_accept, every_zero ? Visibility::inside : Visibility::intersecting);
+  if (const auto decided = hoff_trivial_stages(f, v, stage)) return *decided;
   for (int i = 0; i < 8; ++i)
     for (int bit : {1, 2, 4}) {
       if (i & bit) continue;

@@ -59,23 +59,7 @@ bool segment_hits_local_face(const glm::vec3& a, const glm::vec3& b, const glm::
   const float da = a[k] - side * h[k], db = b[k] - side * h[k];
   if ((da > 0.0f && db > 0.0f) || (da < 0.0f && db < 0.0f)) return false;
   const int j = (k + 1) % 3, l = (k + 2) % 3;
-  if (da == 0.0f && db == 0.0f) {
-    float t0 = 0.0f, t1 = 1.0f;
-    for (int m : {j, l}) {
-      const float pa = a[m], pd = b[m] - a[m];
-      for (float sg : {1.0f, -1.0f}) {
-        const float num = h[m] - sg * pa, den = sg * pd;
-        if (den == 0.0f) {
-          if (num < 0.0f) return false;
-        } else if (den > 0.0f) {
-          t1 = std::min(t1, num / den);
-        } else {
-          t0 = std::max(t0, num / den);
-        }
-      }
-    }
-    return t0 <= t1;
-  }
+  if (da == 0.0f && db == 0.0f) return clip_segment_to_rect(a[j], b[j] - a[j], h[j], a[l], b[l] - a[l], h[l]);
   const float t = da / (da - db);
   const glm::vec3 p = a + t * (b - a);
   return std::abs(p[j]) <= h[j] && std::abs(p[l]) <= h[l];
@@ -95,22 +79,7 @@ std::optional<Visibility> hoff_exact(const Frustum& f, const Obb& b, HoffStage* 
     return v;
   };
   const auto v = obb_corners(b);
-  unsigned code[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  static constexpr int kOrder[6] = {kNear, kLeft, kRight, kBottom, kTop, kFar};
-  for (int plane : kOrder) {
-    unsigned all = ~0u;
-    for (int i = 0; i < 8; ++i) {
-      if (f[plane].eval(v[static_cast<std::size_t>(i)]) < 0.0f) code[i] |= 1u << plane;
-      all &= code[i];
-    }
-    if (all != 0u) return end(HoffStage::trivial_reject, Visibility::outside);
-  }
-  bool every_zero = true, some_zero = false;
-  for (unsigned c : code) {
-    every_zero = every_zero && c == 0u;
-    some_zero = some_zero || c == 0u;
-  }
-  if (some_zero) return end(HoffStage::trivial_accept, every_zero ? Visibility::inside : Visibility::intersecting);
+  if (const auto decided = hoff_trivial_stages(f, v, stage)) return *decided;
 
   const LocalFrame frame(b);
   if (!frame.ok) return std::nullopt;  // coplanar axes: not a box

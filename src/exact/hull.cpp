@@ -9,19 +9,6 @@
 namespace cullproof {
 namespace exact_detail {
 
-namespace {
-
-bool meet(const Plane& a, const Plane& b, const Plane& c, glm::dvec3& x) {
-  const glm::dvec3 na(a.n), nb(b.n), nc(c.n);
-  const glm::dvec3 bc = glm::cross(nb, nc);
-  const double det = glm::dot(na, bc);
-  if (det == 0.0 || !std::isfinite(det)) return false;
-  x = (-double(a.d) * bc - double(b.d) * glm::cross(nc, na) - double(c.d) * glm::cross(na, nb)) / det;
-  return std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z);
-}
-
-}  // namespace
-
 std::optional<FrustumHull> frustum_hull(const Frustum& f) {
   FrustumHull h;
   for (const Plane& p : f.planes)
@@ -35,11 +22,10 @@ std::optional<FrustumHull> frustum_hull(const Frustum& f) {
   const int layers = infinite ? 1 : 2;
   std::vector<glm::dvec3> exact_corners;
   for (int i = 0; i < 4 * layers; ++i) {
-    glm::dvec3 x;
-    if (!meet(f[(i & 1) ? kRight : kLeft], f[(i & 2) ? kTop : kBottom], f[(i & 4) ? kFar : kNear], x))
-      return std::nullopt;
-    exact_corners.push_back(x);
-    h.vertices.push_back(glm::vec3(x));
+    const auto x = planes_meet(f[(i & 1) ? kRight : kLeft], f[(i & 2) ? kTop : kBottom], f[(i & 4) ? kFar : kNear]);
+    if (!x) return std::nullopt;
+    exact_corners.push_back(*x);
+    h.vertices.push_back(glm::vec3(*x));
   }
   if (!has_frustum_topology(f, exact_corners)) return std::nullopt;
   for (int i = 0; i < 4 * layers; ++i)
@@ -143,6 +129,49 @@ const char* to_string(HoffStage s) noexcept {
 
 namespace cullproof::exact_detail {
 
+bool clip_segment_to_rect(float a_j, float d_j, float h_j, float a_l, float d_l, float h_l) noexcept {
+  float t0 = 0.0f, t1 = 1.0f;
+  const float pa[2] = {a_j, a_l}, pd[2] = {d_j, d_l}, h[2] = {h_j, h_l};
+  for (int m = 0; m < 2; ++m)
+    for (float side : {1.0f, -1.0f}) {
+      // side * (pa + t pd) <= h
+      const float num = h[m] - side * pa[m], den = side * pd[m];
+      if (den == 0.0f) {
+        if (num < 0.0f) return false;
+      } else if (den > 0.0f) {
+        t1 = std::min(t1, num / den);
+      } else {
+        t0 = std::max(t0, num / den);
+      }
+    }
+  return t0 <= t1;
+}
+
+std::optional<Visibility> hoff_trivial_stages(const Frustum& f, const std::array<glm::vec3, 8>& v,
+                                              HoffStage* stage) noexcept {
+  auto end = [&](HoffStage s, Visibility r) {
+    if (stage) *stage = s;
+    return r;
+  };
+  unsigned code[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  static constexpr int kOrder[6] = {kNear, kLeft, kRight, kBottom, kTop, kFar};
+  for (int plane : kOrder) {
+    unsigned all = ~0u;
+    for (int i = 0; i < 8; ++i) {
+      if (f[plane].eval(v[static_cast<std::size_t>(i)]) < 0.0f) code[i] |= 1u << plane;
+      all &= code[i];
+    }
+    if (all != 0u) return end(HoffStage::trivial_reject, Visibility::outside);
+  }
+  bool every_zero = true, some_zero = false;
+  for (unsigned c : code) {
+    every_zero = every_zero && c == 0u;
+    some_zero = some_zero || c == 0u;
+  }
+  if (some_zero) return end(HoffStage::trivial_accept, every_zero ? Visibility::inside : Visibility::intersecting);
+  return std::nullopt;
+}
+
 bool point_in_obb(const glm::vec3& p, const Obb& box) noexcept {
   const glm::vec3 d = p - box.center;
   for (int k = 0; k < 3; ++k)
@@ -156,25 +185,9 @@ bool segment_hits_obb_face(const glm::vec3& a, const glm::vec3& b, const Obb& bo
   const float da = glm::dot(a - fc, n), db = glm::dot(b - fc, n);
   if ((da > 0.0f && db > 0.0f) || (da < 0.0f && db < 0.0f)) return false;
   const int j = (k + 1) % 3, l = (k + 2) % 3;
-  if (da == 0.0f && db == 0.0f) {
-    // In the face plane: clip the segment (Liang–Barsky) against |x_j| <= h_j, |x_l| <= h_l.
-    float t0 = 0.0f, t1 = 1.0f;
-    for (int m : {j, l}) {
-      const float pa = glm::dot(a - fc, box.axes[m]), pd = glm::dot(b - a, box.axes[m]);
-      for (float side : {1.0f, -1.0f}) {
-        // side * (pa + t pd) <= h
-        const float num = box.half[m] - side * pa, den = side * pd;
-        if (den == 0.0f) {
-          if (num < 0.0f) return false;
-        } else if (den > 0.0f) {
-          t1 = std::min(t1, num / den);
-        } else {
-          t0 = std::max(t0, num / den);
-        }
-      }
-    }
-    return t0 <= t1;
-  }
+  if (da == 0.0f && db == 0.0f)  // in the face plane
+    return clip_segment_to_rect(glm::dot(a - fc, box.axes[j]), glm::dot(b - a, box.axes[j]), box.half[j],
+                                glm::dot(a - fc, box.axes[l]), glm::dot(b - a, box.axes[l]), box.half[l]);
   const float t = da / (da - db);
   const glm::vec3 p = a + t * (b - a);
   return std::abs(glm::dot(p - fc, box.axes[j])) <= box.half[j] &&

@@ -3,6 +3,7 @@
 // culler holds them.
 #pragma once
 
+#include "cullproof/exact.hpp"
 #include "cullproof/geometry.hpp"
 
 #include <array>
@@ -58,6 +59,18 @@ bool point_in_obb(const glm::vec3& p, const Obb& box) noexcept;
 /// Does the closed segment [a, b] meet frustum face `face` (the part of plane `face` that
 /// satisfies the other five planes)? Float.
 bool segment_hits_frustum_face(const glm::vec3& a, const glm::vec3& b, const Frustum& f, int face) noexcept;
+
+/// Hoff's first two stages (shared/seeds/002): 6-bit outcodes of the eight corners, built plane by
+/// plane in the order near, left, right, bottom, top, far with a trivial reject as soon as the AND
+/// of the codes is non-zero; then a trivial accept if any code is zero (`inside` when all are).
+/// Sets *stage when it decides; nullopt when neither stage decides.
+std::optional<Visibility> hoff_trivial_stages(const Frustum& f, const std::array<glm::vec3, 8>& corners,
+                                              HoffStage* stage) noexcept;
+
+/// Whether the segment a + t (b - a), t in [0, 1], given in coordinates where the face is the
+/// rectangle |x_j| <= h_j, |x_l| <= h_l of its plane, has a point in that rectangle (Liang–Barsky
+/// clipping). Used for a segment lying in a face's plane.
+bool clip_segment_to_rect(float a_j, float d_j, float h_j, float a_l, float d_l, float h_l) noexcept;
 
 /// Outcode of a point: bit i set when the point is outside plane i (eval < 0).
 inline unsigned outcode(const Frustum& f, const glm::vec3& p) noexcept {
