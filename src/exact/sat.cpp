@@ -51,21 +51,26 @@ bool separated_on(const glm::vec3& a, const FrustumHull& h, const Obb& b, int sk
 }  // namespace
 
 std::optional<bool> sat_separated(const Frustum& f, const Obb& b) {
+  // Frustum face normals first: they need no polyhedron (a degenerate all-space far plane has
+  // none). The frustum lies in the plane's half-space by definition, so on this axis its range
+  // starts at -d exactly: the box is separated when it lies wholly outside the plane. (Projecting
+  // the vertices and rays instead would make the range unbounded whenever a ray lying in the
+  // plane rounds to a negative dot.) The far side of each axis is checked with the polyhedron.
+  for (const Plane& p : f.planes) {
+    if (p.is_degenerate()) {
+      if (p.d < 0.0f) return true;  // contains nothing
+      continue;
+    }
+    if (p.eval(b.center) + obb_radius(b, p.n) < 0.0f) return true;
+  }
   const auto hull = frustum_hull(f);
   if (!hull) return std::nullopt;
   if (hull->empty) return true;
+  for (const Plane& p : f.planes)
+    if (!p.is_degenerate() && separated_on(p.n, *hull, b)) return true;
   // Box face normals.
   for (int k = 0; k < 3; ++k)
     if (separated_on(glm::cross(b.axes[(k + 1) % 3], b.axes[(k + 2) % 3]), *hull, b)) return true;
-  // Frustum face normals (a degenerate all-space far plane has none). The frustum lies in the
-  // plane's half-space by definition, so on this axis its range starts at -d exactly: the box is
-  // separated when it lies wholly outside the plane. (Projecting the vertices and rays instead
-  // would make the range unbounded whenever a ray lying in the plane rounds to a negative dot.)
-  for (const Plane& p : f.planes) {
-    if (p.is_degenerate()) continue;
-    if (p.eval(b.center) + obb_radius(b, p.n) < 0.0f) return true;
-    if (separated_on(p.n, *hull, b)) return true;
-  }
   // Edge x edge.
   std::vector<glm::vec3> dirs;
   std::vector<int> ray_of;  // the ray index a direction comes from, or -1
@@ -87,10 +92,14 @@ std::optional<bool> sat_separated(const Frustum& f, const Obb& b) {
 }
 
 std::optional<Visibility> sat_classify(const Frustum& f, const Obb& b) {
+  // A box with every corner inside every plane cannot be separated: answer before building the
+  // polyhedron (the common case for visible boxes). Otherwise the separating-axis search.
+  bool all_space_or_planes = true;
+  for (const Plane& p : f.planes) all_space_or_planes = all_space_or_planes && !(p.is_degenerate() && p.d < 0.0f);
+  if (all_space_or_planes && all_corners_inside(f, obb_corners(b))) return Visibility::inside;
   const std::optional<bool> sep = sat_separated(f, b);
   if (!sep) return std::nullopt;
-  if (*sep) return Visibility::outside;
-  return all_corners_inside(f, obb_corners(b)) ? Visibility::inside : Visibility::intersecting;
+  return *sep ? Visibility::outside : Visibility::intersecting;
 }
 
 }  // namespace cullproof
