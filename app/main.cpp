@@ -5,6 +5,7 @@
 //   cullproof verify [--cases N] [--seed S] [--distribution D ...] [--method M ...] [--threads T]
 //                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
 //   cullproof corpus list|show ID|replay [--dir DIR]
+//   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
 //
 // Machine interface (keep stable): `methods --json` prints a JSON array of objects with at least
 // name, claim, source, volumes; `classify` prints one JSON object per case and line.
@@ -14,6 +15,9 @@
 #include "cullproof/campaign.hpp"
 #include "cullproof/corpus.hpp"
 #include "cullproof/oracle.hpp"
+#endif
+#ifdef CULLPROOF_HAVE_SIM
+#include "cullproof/simulate_cli.hpp"
 #endif
 
 #include <CLI/CLI.hpp>
@@ -285,10 +289,18 @@ int main(int argc, char** argv) {
   corpus_cmd->add_option("--dir", corpus_root, "Corpus directory")->capture_default_str();
 #endif
 
+#ifdef CULLPROOF_HAVE_SIM
+  cullproof::sim::SimulateOptions sim_opt;
+  auto* simulate_cmd = cullproof::sim::add_simulate_subcommand(app, sim_opt);
+#endif
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*methods_cmd) return cmd_methods(methods_json);
     if (*classify_cmd) return cmd_classify(files, method_names, no_oracle);
+#ifdef CULLPROOF_HAVE_SIM
+    if (*simulate_cmd) return cullproof::sim::run_simulate_command(sim_opt);
+#endif
 #ifdef CULLPROOF_HAVE_ORACLE
     if (*verify_cmd) {
       vopt.corpus = no_corpus ? std::nullopt : std::optional<std::filesystem::path>(corpus_dir);
