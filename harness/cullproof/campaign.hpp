@@ -54,7 +54,7 @@ double backward_distance(const CaseFrustum& f, const Volume& v, ErrorClass e);
 double error_distance(const CaseFrustum& f, const Volume& v, ErrorClass e, double oracle_distance);
 
 struct VerifyOptions {
-  std::uint64_t cases = 20000;                 ///< per distribution
+  std::uint64_t cases = 100000;                ///< per distribution
   std::uint64_t seed = 1;
   std::vector<gen::Distribution> distributions = gen::generic_distributions();
   std::vector<std::string> methods;            ///< empty: every registered method
