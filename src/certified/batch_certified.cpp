@@ -13,6 +13,8 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "batch_util-inl.h"
+
 #include "cullproof/certified_batch.hpp"
 
 #include <cmath>
@@ -39,16 +41,6 @@ namespace cullproof {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 using certified_batch_detail::CertPlane;
-
-template <class D, class M>
-HWY_INLINE std::uint64_t bits_of(D d, M m) {
-  std::uint8_t buf[16] = {};
-  hn::StoreMaskBits(d, m, buf);
-  std::uint64_t b;
-  std::memcpy(&b, buf, sizeof(b));
-  const std::size_t n = hn::Lanes(d);
-  return n >= 64 ? b : (b & ((std::uint64_t{1} << n) - 1));
-}
 
 template <class D, class V>
 HWY_INLINE V eval3(D, V nx, V ny, V nz, V nd, V x, V y, V z) {
@@ -81,7 +73,7 @@ void CertAabbKernel(const CertPlane* planes, int count, const float* const* arra
       for (int a = 1; a < 6; ++a) m = hn::Max(m, hn::Abs(hn::LoadU(d, arrays[a] + i)));
       // Scalar: max(|min|, |max|) per axis, then max over axes; max is exact, so any order agrees.
       auto ok = hn::Le(m, msafe);
-      bad |= bits_of(d, hn::Not(ok)) << j;
+      bad |= mask_bits(d, hn::Not(ok)) << j;
       auto in = ok;
       for (int k = 0; k < count; ++k) {
         const CertPlane& s = planes[k];
@@ -95,8 +87,8 @@ void CertAabbKernel(const CertPlane* planes, int count, const float* const* arra
           in = hn::And(in, hn::Ge(vn, t));
         }
       }
-      vis |= bits_of(d, ok) << j;
-      if (inside) ins |= bits_of(d, hn::And(ok, in)) << j;
+      vis |= mask_bits(d, ok) << j;
+      if (inside) ins |= mask_bits(d, hn::And(ok, in)) << j;
     }
     visible[w] = vis;
     if (inside) inside[w] = ins;
@@ -128,7 +120,7 @@ void CertSphereKernel(const CertPlane* planes, int count, const float* x, const 
       const V cx = hn::LoadU(d, x + i), cy = hn::LoadU(d, y + i), cz = hn::LoadU(d, z + i), rad = hn::LoadU(d, r + i);
       const V m = hn::Add(hn::Max(hn::Abs(cx), hn::Max(hn::Abs(cy), hn::Abs(cz))), rad);
       auto ok = hn::Le(m, msafe);
-      bad |= bits_of(d, hn::Not(ok)) << j;
+      bad |= mask_bits(d, hn::Not(ok)) << j;
       auto in = ok;
       for (int k = 0; k < count; ++k) {
         const V t = hn::Add(hn::Mul(al[k], m), be[k]);
@@ -137,8 +129,8 @@ void CertSphereKernel(const CertPlane* planes, int count, const float* x, const 
         ok = hn::And(ok, hn::Ge(hn::Add(s, rho), hn::Neg(t)));
         in = hn::And(in, hn::Ge(hn::Sub(s, rho), t));
       }
-      vis |= bits_of(d, ok) << j;
-      if (inside) ins |= bits_of(d, hn::And(ok, in)) << j;
+      vis |= mask_bits(d, ok) << j;
+      if (inside) ins |= mask_bits(d, hn::And(ok, in)) << j;
     }
     visible[w] = vis;
     if (inside) inside[w] = ins;

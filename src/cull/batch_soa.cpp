@@ -22,6 +22,8 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "batch_util-inl.h"
+
 #include "cullproof/cull_batch.hpp"
 
 #include <algorithm>
@@ -49,16 +51,6 @@ HWY_BEFORE_NAMESPACE();
 namespace cullproof {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-template <class D, class M>
-HWY_INLINE std::uint64_t mask_bits(D d, M m) {
-  std::uint8_t buf[16] = {};
-  hn::StoreMaskBits(d, m, buf);
-  std::uint64_t bits;
-  std::memcpy(&bits, buf, sizeof(bits));
-  const std::size_t n = hn::Lanes(d);
-  return n >= 64 ? bits : (bits & ((std::uint64_t{1} << n) - 1));
-}
 
 // Boxes [0, words*64): visible / inside bits. `inside` may be null.
 // Per plane, fl(s + d) < 0 iff s < -d exactly (a rounded sum of two floats has the sign of the
