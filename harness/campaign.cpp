@@ -152,15 +152,13 @@ double backward_distance(const CaseFrustum& f, const Volume& v, ErrorClass e) {
   glm::dvec3 ax[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
   if (const Point* p = std::get_if<Point>(&v)) {
     c = glm::dvec3(*p);
+  } else if (const Aabb* a = std::get_if<Aabb>(&v)) {  // exact centre and half-extents in double
+    c = (glm::dvec3(a->min) + glm::dvec3(a->max)) * 0.5;
+    for (int i = 0; i < 3; ++i) ax[i][i] = (double(a->max[i]) - double(a->min[i])) * 0.5;
   } else {
-    const Obb b = std::holds_alternative<Aabb>(v) ? to_obb(std::get<Aabb>(v)) : std::get<Obb>(v);
-    if (const Aabb* a = std::get_if<Aabb>(&v)) {  // exact centre and half-extents in double
-      c = (glm::dvec3(a->min) + glm::dvec3(a->max)) * 0.5;
-      for (int i = 0; i < 3; ++i) ax[i][i] = (double(a->max[i]) - double(a->min[i])) * 0.5;
-    } else {
-      c = glm::dvec3(b.center);
-      for (int i = 0; i < 3; ++i) ax[i] = glm::dvec3(b.axes[i]) * double(b.half[i]);
-    }
+    const Obb& b = std::get<Obb>(v);
+    c = glm::dvec3(b.center);
+    for (int i = 0; i < 3; ++i) ax[i] = glm::dvec3(b.axes[i]) * double(b.half[i]);
   }
   // Extremes of each plane over the box: s_j(c) +- sum_i |n_j . e_i|.
   double protrusion = -inf, clearance = inf;
