@@ -186,3 +186,32 @@ TEST(Registry, ExactFamilyIsRegisteredWithClaimsAndSources) {
   const CaseFrustum ortho = frustum_spec(orthographic_projection(-1, 1, -1, 1, 1, 3), {});
   EXPECT_FALSE(find_method("hoff96")->classify(ortho, Volume{Aabb{{0, 0, -2}, {0, 0, -2}}}).has_value());
 }
+
+#ifdef CULLPROOF_TEST_ORACLE
+#include "cullproof/oracle.hpp"
+
+// The truths the tests above derive by hand (in their comments), decided by the oracle.
+TEST(HandMadeTruths, AgreeWithTheOracle) {
+  struct Row {
+    const char* what;
+    Aabb box;
+    Visibility truth;
+  };
+  const Row rows[] = {
+      {"beyond far", {{-0.5f, -0.5f, -10}, {0.5f, 0.5f, -5}}, Visibility::outside},
+      {"inside", {{-0.5f, -0.5f, -2.5f}, {0.5f, 0.5f, -1.5f}}, Visibility::inside},
+      {"crosses right", {{-0.5f, -0.5f, -2.5f}, {5, 0.5f, -1.5f}}, Visibility::intersecting},
+      {"holds the far corner", {{2.999f, 2.999f, -3.5f}, {3.5f, 3.5f, -2.99f}}, Visibility::intersecting},
+      {"holds everything", {{-10, -10, -10}, {10, 10, 10}}, Visibility::intersecting},
+      {"rod", {{-5, -0.1f, -2.1f}, {5, 0.1f, -1.9f}}, Visibility::intersecting},
+      {"holds the frustum, not the eye", {{-5, -5, -4}, {5, 5, -0.5f}}, Visibility::intersecting},
+      {"far-left corner region", {{-4, -0.5f, -3.5f}, {-3.1f, 0.5f, -2.9f}}, Visibility::outside},
+      {"touches near from outside", {{-0.5f, -0.5f, -1}, {0.5f, 0.5f, 0}}, Visibility::intersecting},
+      {"point box", {{0, 0, -2}, {0, 0, -2}}, Visibility::inside},
+      {"segment", {{-9, 0, -2}, {9, 0, -2}}, Visibility::intersecting},
+      {"segment above", {{-9, 5, -2}, {9, 5, -2}}, Visibility::outside},
+  };
+  for (const Row& r : rows)
+    EXPECT_EQ(oracle::truth(frustum_spec(F()), Volume{r.box}), r.truth) << r.what;
+}
+#endif
