@@ -1,13 +1,26 @@
 // Certified SIMD batch culling of AABBs and spheres (Highway, runtime dispatch).
 //
 // Sources: the n/p-vertex test of Assarsson & Möller 2000 §3.1 with the min/max choice hoisted
-// per plane (as src/cull/batch_soa.cpp), and the certified margins of certified.cpp, whose
-// derivation applies lane by lane: t = alpha M + beta with M the lane's largest coordinate
-// magnitude, computed with the same Mul and Add as the scalar code (no MulAdd,
-// -ffp-contract=off), and the plane value ((nx x + ny y) + nz z) + d in Plane::eval's order.
-// So every lane's verdict equals certified_pn_vertex / certified_sphere bit for bit.
-// Claim: certified-conservative. Lanes with M > m_safe (or non-finite) are recomputed by the
-// scalar functions, which guard against overflow.
+// per plane (as src/cull/batch_soa.cpp), and the fast path of certified.cpp: scaled planes, the
+// constant part of the margin folded into d_out / d_in, one uniform T = fl(t M) per volume.
+// Claim: certified-conservative.
+//
+// Why this kernel may use FMA and the plain one may not: the certified bound holds for any
+// evaluation order with or without fused multiply-adds (certified.cpp), so each plane value is
+// three MulAdds, v = fl(n_z z + fl(n_y y + fl(n_x x + d_out))) (fused where the target has FMA,
+// Highway's HWY_NATIVE_FMA; Mul then Add elsewhere). The plain batch must give pn_vertex's
+// verdicts bit for bit, which rules FMA out for it; it is bound by its 18 loads per vector
+// anyway, not by arithmetic. So the verdicts here are those of the scalar certified tests except
+// within the rounding margin, where either may answer `intersecting`; tests/certified checks the
+// kernel bit for bit against a scalar model of these operations.
+//
+// Per volume: M (the largest coordinate magnitude; for a box taken from the p-vertex
+// coordinates of two planes whose normals lie in opposite octants, which together read all six
+// arrays, so M costs no extra load), T = fl(t M), visible iff min_k v_k >= -T, inside iff
+// also min_k w_k >= T (w: the n-vertex value with d_in). A 64-volume word with a lane M > m_safe
+// or NaN is flagged; those lanes are recomputed by the scalar functions, whose guarded path
+// handles overflow. A tail shorter than 64 runs through the kernel in a padded copy, so a
+// volume's verdict does not depend on its position in the batch.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "batch_certified.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -17,21 +30,27 @@
 
 #include "cullproof/certified_batch.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <vector>
+#include <utility>
 
 #ifndef CULLPROOF_BATCH_CERTIFIED_SHARED
 #define CULLPROOF_BATCH_CERTIFIED_SHARED
 namespace cullproof::certified_batch_detail {
+// A fast-path plane (CertifiedPlane) with the box arrays of its p- and n-vertex.
 struct CertPlane {
-  float nx, ny, nz, d, alpha, beta, len;
+  float nx, ny, nz, d_out, d_in, norm;
   const float* px;
   const float* py;
   const float* pz;
   const float* qx;
   const float* qy;
   const float* qz;
+};
+struct Arrays {
+  const float* min[3];
+  const float* max[3];
 };
 }  // namespace cullproof::certified_batch_detail
 #endif
@@ -40,103 +59,168 @@ HWY_BEFORE_NAMESPACE();
 namespace cullproof {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+using certified_batch_detail::Arrays;
 using certified_batch_detail::CertPlane;
 
-template <class D, class V>
-HWY_INLINE V eval3(D, V nx, V ny, V nz, V nd, V x, V y, V z) {
-  V v = hn::Mul(nx, x);
-  v = hn::Add(v, hn::Mul(ny, y));
-  v = hn::Add(v, hn::Mul(nz, z));
-  return hn::Add(v, nd);
+// fl(nz z + fl(ny y + fl(nx x + d))): the plane value with the offset first.
+template <class V>
+HWY_INLINE V plane3(V nx, V ny, V nz, V d, V x, V y, V z) {
+  return hn::MulAdd(nz, z, hn::MulAdd(ny, y, hn::MulAdd(nx, x, d)));
 }
 
-void CertAabbKernel(const CertPlane* planes, int count, const float* const* arrays, float m_safe, std::size_t words,
-                    std::uint64_t* visible, std::uint64_t* inside, std::uint64_t* unsafe) {
+// A loaded vector kept in a register: an empty asm the compiler cannot see through, so that the
+// two uses of a covering plane's p-vertex coordinates (the plane value and M) share one load
+// instead of each folding its own load from memory (the kernel is load-bound).
+template <class V>
+HWY_INLINE V in_register(V v) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_EMU128 && HWY_TARGET != HWY_SCALAR
+  asm("" : "+v"(v.raw));
+#endif
+  return v;
+}
+
+// |x| as bits (sign cleared): for non-negative floats the unsigned order of the bits is the
+// order of the values, and a NaN sorts above infinity, so M over bits is exact and NaN-proof.
+template <class DU, class V>
+HWY_INLINE hn::Vec<DU> abs_bits(DU du, V v) {
+  return hn::And(hn::BitCast(du, v), hn::Set(du, 0x7fffffffu));
+}
+
+// Boxes of words [w_begin, w_end). kCovered: planes 0 and 1 have normals in opposite octants,
+// so their p-vertex loads are the six arrays and give M; otherwise the six arrays are loaded
+// for M. kCount: 6 (unrolled) or 0 (count at run time).
+template <bool kInside, bool kCovered, int kCount>
+HWY_INLINE void CertAabbImpl(const CertPlane* planes, int count, const Arrays& a, float t, float m_safe,
+                             std::size_t w_begin, std::size_t w_end, std::uint64_t* visible, std::uint64_t* inside,
+                             std::uint8_t* unsafe) {
   const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
+  using VU = hn::Vec<decltype(du)>;
   const std::size_t N = hn::Lanes(d);
-  V nx[6], ny[6], nz[6], nd[6], al[6], be[6];
-  for (int k = 0; k < count; ++k) {
+  const int n = kCount > 0 ? kCount : count;
+  V nx[6], ny[6], nz[6], dout[6], din[6];
+  for (int k = 0; k < n; ++k) {
     nx[k] = hn::Set(d, planes[k].nx);
     ny[k] = hn::Set(d, planes[k].ny);
     nz[k] = hn::Set(d, planes[k].nz);
-    nd[k] = hn::Set(d, planes[k].d);
-    al[k] = hn::Set(d, planes[k].alpha);
-    be[k] = hn::Set(d, planes[k].beta);
+    dout[k] = hn::Set(d, planes[k].d_out);
+    din[k] = hn::Set(d, planes[k].d_in);
   }
-  const V msafe = hn::Set(d, m_safe);
-  for (std::size_t w = 0; w < words; ++w) {
-    std::uint64_t vis = 0, ins = 0, bad = 0;
+  const V ntv = hn::Set(d, -t), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
+  for (std::size_t w = w_begin; w < w_end; ++w) {
+    std::uint64_t vis = 0, ins = 0;
+    VU mword = hn::Zero(du);
     for (std::size_t j = 0; j < 64; j += N) {
       const std::size_t i = w * 64 + j;
-      V m = hn::Abs(hn::LoadU(d, arrays[0] + i));
-      for (int a = 1; a < 6; ++a) m = hn::Max(m, hn::Abs(hn::LoadU(d, arrays[a] + i)));
-      // Scalar: max(|min|, |max|) per axis, then max over axes; max is exact, so any order agrees.
-      auto ok = hn::Le(m, msafe);
-      bad |= mask_bits(d, hn::Not(ok)) << j;
-      auto in = ok;
-      for (int k = 0; k < count; ++k) {
+      VU mb = hn::Zero(du);
+      if (!kCovered)
+        for (int c = 0; c < 3; ++c)
+          mb = hn::Max(mb, hn::Max(abs_bits(du, hn::LoadU(d, a.min[c] + i)), abs_bits(du, hn::LoadU(d, a.max[c] + i))));
+      V minp = inf, minn = inf;
+#pragma GCC unroll 6
+      for (int k = 0; k < n; ++k) {
         const CertPlane& s = planes[k];
-        const V t = hn::Add(hn::Mul(al[k], m), be[k]);
-        const V vp = eval3(d, nx[k], ny[k], nz[k], nd[k], hn::LoadU(d, s.px + i), hn::LoadU(d, s.py + i),
-                           hn::LoadU(d, s.pz + i));
-        ok = hn::And(ok, hn::Ge(vp, hn::Neg(t)));
-        if (inside) {
-          const V vn = eval3(d, nx[k], ny[k], nz[k], nd[k], hn::LoadU(d, s.qx + i), hn::LoadU(d, s.qy + i),
-                             hn::LoadU(d, s.qz + i));
-          in = hn::And(in, hn::Ge(vn, t));
+        V px = hn::LoadU(d, s.px + i), py = hn::LoadU(d, s.py + i), pz = hn::LoadU(d, s.pz + i);
+        if (kCovered && k < 2) {
+          px = in_register(px);
+          py = in_register(py);
+          pz = in_register(pz);
+          mb = hn::Max(mb, hn::Max(abs_bits(du, px), hn::Max(abs_bits(du, py), abs_bits(du, pz))));
         }
+        minp = hn::Min(minp, plane3(nx[k], ny[k], nz[k], dout[k], px, py, pz));
+        if (kInside)
+          minn = hn::Min(minn, plane3(nx[k], ny[k], nz[k], din[k], hn::LoadU(d, s.qx + i), hn::LoadU(d, s.qy + i),
+                                      hn::LoadU(d, s.qz + i)));
       }
-      vis |= mask_bits(d, ok) << j;
-      if (inside) ins |= mask_bits(d, hn::And(ok, in)) << j;
+      mword = hn::Max(mword, mb);
+      const V ntm = hn::Mul(ntv, hn::BitCast(d, mb));  // -T: fl(-t M) = -fl(t M)
+      const auto v = hn::Ge(minp, ntm);
+      vis |= mask_bits(d, v) << j;
+      if (kInside) ins |= mask_bits(d, hn::And(v, hn::Ge(minn, hn::Neg(ntm)))) << j;
     }
     visible[w] = vis;
-    if (inside) inside[w] = ins;
-    unsafe[w] = bad;
+    if (kInside) inside[w] = ins;
+    unsafe[w - w_begin] = hn::AllTrue(d, hn::Le(hn::BitCast(d, mword), msafe)) ? 0u : 1u;
   }
 }
 
-void CertSphereKernel(const CertPlane* planes, int count, const float* x, const float* y, const float* z,
-                      const float* r, float m_safe, std::size_t words, std::uint64_t* visible, std::uint64_t* inside,
-                      std::uint64_t* unsafe) {
+template <bool kInside>
+HWY_INLINE void CertAabbDispatch(const CertPlane* planes, int count, bool covered, const Arrays& a, float t,
+                                 float m_safe, std::size_t w0, std::size_t w1, std::uint64_t* visible,
+                                 std::uint64_t* inside, std::uint8_t* unsafe) {
+  if (count == 6 && covered)
+    return CertAabbImpl<kInside, true, 6>(planes, count, a, t, m_safe, w0, w1, visible, inside, unsafe);
+  if (count == 6) return CertAabbImpl<kInside, false, 6>(planes, count, a, t, m_safe, w0, w1, visible, inside, unsafe);
+  CertAabbImpl<kInside, false, 0>(planes, count, a, t, m_safe, w0, w1, visible, inside, unsafe);
+}
+
+void CertAabbKernel(const CertPlane* planes, int count, bool covered, const Arrays& a, float t, float m_safe,
+                    std::size_t w0, std::size_t w1, std::uint64_t* visible, std::uint64_t* inside,
+                    std::uint8_t* unsafe) {
+  if (inside) return CertAabbDispatch<true>(planes, count, covered, a, t, m_safe, w0, w1, visible, inside, unsafe);
+  CertAabbDispatch<false>(planes, count, covered, a, t, m_safe, w0, w1, visible, inside, unsafe);
+}
+
+// Spheres: M = fl(max |c_j| + r), T = fl(t M); visible iff min_k fl(r |n'_k| + s_k) >= -T with
+// s_k = plane3(..., d_out, c); inside iff also min_k fl(-r |n'_k| + plane3(..., d_in, c)) >= T.
+template <bool kInside, int kCount>
+HWY_INLINE void CertSphereImpl(const CertPlane* planes, int count, const float* x, const float* y, const float* z,
+                               const float* r, float t, float m_safe, std::size_t w_begin, std::size_t w_end,
+                               std::uint64_t* visible, std::uint64_t* inside, std::uint8_t* unsafe) {
   const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
+  using VU = hn::Vec<decltype(du)>;
   const std::size_t N = hn::Lanes(d);
-  V nx[6], ny[6], nz[6], nd[6], al[6], be[6], len[6];
-  for (int k = 0; k < count; ++k) {
+  const int n = kCount > 0 ? kCount : count;
+  V nx[6], ny[6], nz[6], dout[6], din[6], len[6];
+  for (int k = 0; k < n; ++k) {
     nx[k] = hn::Set(d, planes[k].nx);
     ny[k] = hn::Set(d, planes[k].ny);
     nz[k] = hn::Set(d, planes[k].nz);
-    nd[k] = hn::Set(d, planes[k].d);
-    al[k] = hn::Set(d, planes[k].alpha);
-    be[k] = hn::Set(d, planes[k].beta);
-    len[k] = hn::Set(d, planes[k].len);
+    dout[k] = hn::Set(d, planes[k].d_out);
+    din[k] = hn::Set(d, planes[k].d_in);
+    len[k] = hn::Set(d, planes[k].norm);
   }
-  const V msafe = hn::Set(d, m_safe);
-  for (std::size_t w = 0; w < words; ++w) {
-    std::uint64_t vis = 0, ins = 0, bad = 0;
+  const V ntv = hn::Set(d, -t), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
+  for (std::size_t w = w_begin; w < w_end; ++w) {
+    std::uint64_t vis = 0, ins = 0;
+    VU mword = hn::Zero(du);
     for (std::size_t j = 0; j < 64; j += N) {
       const std::size_t i = w * 64 + j;
       const V cx = hn::LoadU(d, x + i), cy = hn::LoadU(d, y + i), cz = hn::LoadU(d, z + i), rad = hn::LoadU(d, r + i);
       const V m = hn::Add(hn::Max(hn::Abs(cx), hn::Max(hn::Abs(cy), hn::Abs(cz))), rad);
-      auto ok = hn::Le(m, msafe);
-      bad |= mask_bits(d, hn::Not(ok)) << j;
-      auto in = ok;
-      for (int k = 0; k < count; ++k) {
-        const V t = hn::Add(hn::Mul(al[k], m), be[k]);
-        const V s = eval3(d, nx[k], ny[k], nz[k], nd[k], cx, cy, cz);
-        const V rho = hn::Mul(rad, len[k]);
-        ok = hn::And(ok, hn::Ge(hn::Add(s, rho), hn::Neg(t)));
-        in = hn::And(in, hn::Ge(hn::Sub(s, rho), t));
+      mword = hn::Max(mword, abs_bits(du, m));
+      const V ntm = hn::Mul(ntv, m);
+      V minp = inf, minn = inf;
+#pragma GCC unroll 6
+      for (int k = 0; k < n; ++k) {
+        minp = hn::Min(minp, hn::MulAdd(rad, len[k], plane3(nx[k], ny[k], nz[k], dout[k], cx, cy, cz)));
+        if (kInside) minn = hn::Min(minn, hn::NegMulAdd(rad, len[k], plane3(nx[k], ny[k], nz[k], din[k], cx, cy, cz)));
       }
-      vis |= mask_bits(d, ok) << j;
-      if (inside) ins |= mask_bits(d, hn::And(ok, in)) << j;
+      const auto v = hn::Ge(minp, ntm);
+      vis |= mask_bits(d, v) << j;
+      if (kInside) ins |= mask_bits(d, hn::And(v, hn::Ge(minn, hn::Neg(ntm)))) << j;
     }
     visible[w] = vis;
-    if (inside) inside[w] = ins;
-    unsafe[w] = bad;
+    if (kInside) inside[w] = ins;
+    unsafe[w - w_begin] = hn::AllTrue(d, hn::Le(hn::BitCast(d, mword), msafe)) ? 0u : 1u;
   }
 }
+
+void CertSphereKernel(const CertPlane* planes, int count, const float* x, const float* y, const float* z,
+                      const float* r, float t, float m_safe, std::size_t w0, std::size_t w1, std::uint64_t* visible,
+                      std::uint64_t* inside, std::uint8_t* unsafe) {
+  if (inside) {
+    if (count == 6) return CertSphereImpl<true, 6>(planes, count, x, y, z, r, t, m_safe, w0, w1, visible, inside, unsafe);
+    return CertSphereImpl<true, 0>(planes, count, x, y, z, r, t, m_safe, w0, w1, visible, inside, unsafe);
+  }
+  if (count == 6) return CertSphereImpl<false, 6>(planes, count, x, y, z, r, t, m_safe, w0, w1, visible, inside, unsafe);
+  CertSphereImpl<false, 0>(planes, count, x, y, z, r, t, m_safe, w0, w1, visible, inside, unsafe);
+}
+
+bool UsesFmaImpl() { return HWY_NATIVE_FMA != 0; }
 
 }  // namespace HWY_NAMESPACE
 }  // namespace cullproof
@@ -147,29 +231,41 @@ namespace cullproof {
 
 HWY_EXPORT(CertAabbKernel);
 HWY_EXPORT(CertSphereKernel);
+HWY_EXPORT(UsesFmaImpl);
 
 namespace {
 
 using certified_batch_detail::CertPlane;
 
-template <class Scalar>
-void patch(std::size_t count, std::size_t words, const std::uint64_t* unsafe, std::uint64_t* visible,
-           std::uint64_t* inside, Scalar&& scalar) {
-  for (std::size_t w = 0; w < words; ++w) {
-    std::uint64_t b = unsafe ? unsafe[w] : ~std::uint64_t{0};
-    if (!unsafe) {  // the tail: every lane up to count
-      const std::size_t end = std::min<std::size_t>(64, count - w * 64);
-      b = end >= 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << end) - 1);
-      visible[w] = 0;
-      if (inside) inside[w] = 0;
-    }
-    while (b) {
-      const int bit = __builtin_ctzll(b);
-      b &= b - 1;
-      const Visibility v = scalar(w * 64 + std::size_t(bit));
-      const std::uint64_t one = std::uint64_t{1} << bit;
-      visible[w] = (visible[w] & ~one) | (v != Visibility::outside ? one : 0);
-      if (inside) inside[w] = (inside[w] & ~one) | (v == Visibility::inside ? one : 0);
+constexpr std::size_t kChunkWords = 256;  // 16,384 volumes per kernel call (flags on the stack)
+
+// |x| as bits, as the kernels compute it (NaN above every number).
+std::uint32_t abs_bits(float x) noexcept {
+  std::uint32_t u;
+  std::memcpy(&u, &x, sizeof u);
+  return u & 0x7fffffffu;
+}
+
+// Runs `kernel(w0, w1, visible, inside, flags)` over the full words in chunks, hands the lanes of
+// flagged words whose M is too large (`unsafe_lane(i)`) to `scalar`, then runs the tail through
+// the kernel on a padded copy (`pad(copy_begin, n)` returns a kernel bound to the copy).
+template <class Kernel, class UnsafeLane, class Scalar>
+void run_full_words(std::size_t full, std::uint64_t* visible, std::uint64_t* inside, Kernel&& kernel,
+                    UnsafeLane&& unsafe_lane, Scalar&& scalar) {
+  std::uint8_t flags[kChunkWords];
+  for (std::size_t w0 = 0; w0 < full; w0 += kChunkWords) {
+    const std::size_t w1 = std::min(full, w0 + kChunkWords);
+    kernel(w0, w1, visible, inside, flags);
+    for (std::size_t w = w0; w < w1; ++w) {
+      if (!flags[w - w0]) continue;
+      for (std::size_t j = 0; j < 64; ++j) {
+        const std::size_t i = w * 64 + j;
+        if (!unsafe_lane(i)) continue;
+        const Visibility v = scalar(i);
+        const std::uint64_t one = std::uint64_t{1} << j;
+        visible[w] = (visible[w] & ~one) | (v != Visibility::outside ? one : 0);
+        if (inside) inside[w] = (inside[w] & ~one) | (v == Visibility::inside ? one : 0);
+      }
     }
   }
 }
@@ -180,59 +276,121 @@ void clear(std::size_t words, std::uint64_t* visible, std::uint64_t* inside) {
   if (inside) std::memset(inside, 0, words * sizeof(std::uint64_t));
 }
 
+// Puts two planes whose normals lie in opposite octants (every component's sign differs, with
+// the kernel's >= 0 convention) first, if there are such planes: their p-vertices read all six
+// box arrays. The verdict does not depend on the order of the planes (a minimum).
+bool put_covering_pair_first(CertPlane* p, int count) {
+  auto octant = [](const CertPlane& q) { return (q.nx >= 0.0f ? 1 : 0) | (q.ny >= 0.0f ? 2 : 0) | (q.nz >= 0.0f ? 4 : 0); };
+  for (int i = 0; i < count; ++i)
+    for (int j = i + 1; j < count; ++j)
+      if ((octant(p[i]) ^ octant(p[j])) == 7) {
+        std::swap(p[0], p[i]);  // j > i >= 0: p[j] is not moved by this swap
+        std::swap(p[1], p[j]);
+        return true;
+      }
+  return false;
+}
+
+struct Padded {  // the tail's copy, padded with zeros (a point box / sphere at the origin)
+  float v[6][64];
+};
+
+void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, std::uint64_t* inside) {
+  if (f.empty) return clear(bitset_words(b.count), visible, inside);
+  auto prepare = [&](const AabbSoa& s, CertPlane (&planes)[6]) {
+    for (int i = 0; i < f.active_count; ++i) {
+      const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
+      // Hoisted per plane: the p-vertex reads max where n' >= 0 (certified_pn_vertex's choice).
+      planes[i] = CertPlane{p.nx, p.ny, p.nz, p.d_out, p.d_in, p.norm,
+                            p.nx >= 0.0f ? s.max_x : s.min_x, p.ny >= 0.0f ? s.max_y : s.min_y,
+                            p.nz >= 0.0f ? s.max_z : s.min_z, p.nx >= 0.0f ? s.min_x : s.max_x,
+                            p.ny >= 0.0f ? s.min_y : s.max_y, p.nz >= 0.0f ? s.min_z : s.max_z};
+    }
+    return put_covering_pair_first(planes, f.active_count);
+  };
+  auto launch = [&](const AabbSoa& s, std::size_t w0, std::size_t w1, std::uint64_t* vis, std::uint64_t* ins,
+                    std::uint8_t* flags) {
+    CertPlane planes[6];
+    const bool covered = prepare(s, planes);
+    const certified_batch_detail::Arrays arrays{{s.min_x, s.min_y, s.min_z}, {s.max_x, s.max_y, s.max_z}};
+    HWY_DYNAMIC_DISPATCH(CertAabbKernel)(planes, f.active_count, covered, arrays, f.t_box, f.m_safe, w0, w1, vis, ins,
+                                         flags);
+  };
+  auto unsafe_lane = [&](const AabbSoa& s, std::size_t i) {
+    const std::uint32_t m = std::max({abs_bits(s.min_x[i]), abs_bits(s.min_y[i]), abs_bits(s.min_z[i]),
+                                      abs_bits(s.max_x[i]), abs_bits(s.max_y[i]), abs_bits(s.max_z[i])});
+    return m > abs_bits(f.m_safe);
+  };
+  auto scalar = [&](const AabbSoa& s, std::size_t i) {
+    return certified_pn_vertex(f, Aabb{glm::vec3(s.min_x[i], s.min_y[i], s.min_z[i]),
+                                       glm::vec3(s.max_x[i], s.max_y[i], s.max_z[i])});
+  };
+  auto run = [&](const AabbSoa& s, std::size_t full, std::uint64_t* vis, std::uint64_t* ins) {
+    run_full_words(
+        full, vis, ins, [&](std::size_t w0, std::size_t w1, std::uint64_t* v, std::uint64_t* n, std::uint8_t* fl) { launch(s, w0, w1, v, n, fl); },
+        [&](std::size_t i) { return unsafe_lane(s, i); }, [&](std::size_t i) { return scalar(s, i); });
+  };
+  const std::size_t full = b.count / 64, rest = b.count - full * 64;
+  run(b, full, visible, inside);
+  if (rest == 0) return;
+  Padded pad{};
+  const float* src[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
+  for (int k = 0; k < 6; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
+  const AabbSoa tail{pad.v[0], pad.v[1], pad.v[2], pad.v[3], pad.v[4], pad.v[5], 64};
+  std::uint64_t vis = 0, ins = 0;
+  run(tail, 1, &vis, inside ? &ins : nullptr);
+  const std::uint64_t keep = (std::uint64_t{1} << rest) - 1;
+  visible[full] = vis & keep;
+  if (inside) inside[full] = ins & keep;
+}
+
+void spheres(const CertifiedFrustum& f, const SphereSoa& s, std::uint64_t* visible, std::uint64_t* inside) {
+  if (f.empty) return clear(bitset_words(s.count), visible, inside);
+  CertPlane planes[6];
+  for (int i = 0; i < f.active_count; ++i) {
+    const CertifiedPlane& p = f.fast_sphere[static_cast<std::size_t>(i)];
+    planes[i] = CertPlane{p.nx, p.ny, p.nz, p.d_out, p.d_in, p.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+  }
+  auto run = [&](const SphereSoa& q, std::size_t full, std::uint64_t* vis, std::uint64_t* ins) {
+    run_full_words(
+        full, vis, ins,
+        [&](std::size_t w0, std::size_t w1, std::uint64_t* v, std::uint64_t* n, std::uint8_t* fl) {
+          HWY_DYNAMIC_DISPATCH(CertSphereKernel)(planes, f.active_count, q.x, q.y, q.z, q.radius, f.t_sphere, f.m_safe,
+                                                 w0, w1, v, n, fl);
+        },
+        [&](std::size_t i) {
+          const float m = std::max(std::abs(q.x[i]), std::max(std::abs(q.y[i]), std::abs(q.z[i]))) + q.radius[i];
+          return abs_bits(m) > abs_bits(f.m_safe);
+        },
+        [&](std::size_t i) { return certified_sphere(f, Sphere{glm::vec3(q.x[i], q.y[i], q.z[i]), q.radius[i]}); });
+  };
+  const std::size_t full = s.count / 64, rest = s.count - full * 64;
+  run(s, full, visible, inside);
+  if (rest == 0) return;
+  Padded pad{};
+  const float* src[4] = {s.x, s.y, s.z, s.radius};
+  for (int k = 0; k < 4; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
+  const SphereSoa tail{pad.v[0], pad.v[1], pad.v[2], pad.v[3], 64};
+  std::uint64_t vis = 0, ins = 0;
+  run(tail, 1, &vis, inside ? &ins : nullptr);
+  const std::uint64_t keep = (std::uint64_t{1} << rest) - 1;
+  visible[full] = vis & keep;
+  if (inside) inside[full] = ins & keep;
+}
+
 }  // namespace
 
 void certified_cull_aabbs_bitset(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible,
                                  std::uint64_t* inside) {
-  const std::size_t words = bitset_words(b.count), full = b.count / 64;
-  if (f.empty) return clear(words, visible, inside);
-  CertPlane planes[6];
-  for (int i = 0; i < f.active_count; ++i) {
-    const int k = f.active[static_cast<std::size_t>(i)];
-    const Plane& p = f.planes[k];
-    // Hoisted per plane: the p-vertex reads max where n >= 0 (certified_pn_vertex's choice).
-    planes[i] = CertPlane{p.n.x, p.n.y, p.n.z, p.d, f.alpha_narrow[k], f.beta_narrow[k], 0.0f,
-                          p.n.x >= 0.0f ? b.max_x : b.min_x, p.n.y >= 0.0f ? b.max_y : b.min_y,
-                          p.n.z >= 0.0f ? b.max_z : b.min_z, p.n.x >= 0.0f ? b.min_x : b.max_x,
-                          p.n.y >= 0.0f ? b.min_y : b.max_y, p.n.z >= 0.0f ? b.min_z : b.max_z};
-  }
-  auto scalar = [&](std::size_t i) {
-    return certified_pn_vertex(f, Aabb{glm::vec3(b.min_x[i], b.min_y[i], b.min_z[i]),
-                                       glm::vec3(b.max_x[i], b.max_y[i], b.max_z[i])});
-  };
-  if (full > 0) {
-    std::vector<std::uint64_t> unsafe(full);
-    const float* arrays[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
-    HWY_DYNAMIC_DISPATCH(CertAabbKernel)(planes, f.active_count, arrays, f.m_safe, full, visible, inside, unsafe.data());
-    patch(b.count, full, unsafe.data(), visible, inside, scalar);
-  }
-  if (full < words) patch(b.count - full * 64, 1, nullptr, visible + full, inside ? inside + full : nullptr,
-                          [&](std::size_t i) { return scalar(full * 64 + i); });
+  aabbs(f, b, visible, inside);
 }
 
 void certified_cull_spheres_bitset(const CertifiedFrustum& f, const SphereSoa& s, std::uint64_t* visible,
                                    std::uint64_t* inside) {
-  const std::size_t words = bitset_words(s.count), full = s.count / 64;
-  if (f.empty) return clear(words, visible, inside);
-  CertPlane planes[6];
-  for (int i = 0; i < f.active_count; ++i) {
-    const int k = f.active[static_cast<std::size_t>(i)];
-    const Plane& p = f.planes[k];
-    planes[i] = CertPlane{p.n.x, p.n.y, p.n.z, p.d, f.alpha_wide[k], f.beta_wide[k],
-                          std::sqrt(glm::dot(p.n, p.n)), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
-  }
-  auto scalar = [&](std::size_t i) {
-    return certified_sphere(f, Sphere{glm::vec3(s.x[i], s.y[i], s.z[i]), s.radius[i]});
-  };
-  if (full > 0) {
-    std::vector<std::uint64_t> unsafe(full);
-    HWY_DYNAMIC_DISPATCH(CertSphereKernel)(planes, f.active_count, s.x, s.y, s.z, s.radius, f.m_safe, full, visible,
-                                           inside, unsafe.data());
-    patch(s.count, full, unsafe.data(), visible, inside, scalar);
-  }
-  if (full < words) patch(s.count - full * 64, 1, nullptr, visible + full, inside ? inside + full : nullptr,
-                          [&](std::size_t i) { return scalar(full * 64 + i); });
+  spheres(f, s, visible, inside);
 }
+
+bool certified_batch_uses_fma() { return HWY_DYNAMIC_DISPATCH(UsesFmaImpl)(); }
 
 }  // namespace cullproof
 #endif  // HWY_ONCE

@@ -13,6 +13,14 @@
 
 namespace cullproof {
 
+/// One plane of the certified fast path (CertifiedFrustum::fast_box / fast_sphere).
+struct CertifiedPlane {
+  float nx = 0, ny = 0, nz = 0;  ///< the float normal times 2^-e, rounded away from zero (signs kept)
+  float d_out = 0;               ///< d 2^-e + delta, rounded up: the offset of the "outside" test
+  float d_in = 0;                ///< d 2^-e - delta, rounded down: the offset of the "inside" test
+  float norm = 0;                ///< fl(sqrt(fl(n.n))) of the scaled normal (sphere tests)
+};
+
 /// A frustum prepared for certified tests (once per frame). For each plane k: the float plane a
 /// culler uses, and `bound[k]` = (a_x, a_y, a_z, a_d) with |true coefficient| <= a and
 /// |float coefficient - true coefficient| <= u * a (u = 2^-24). For planes given as planes,
@@ -32,6 +40,15 @@ struct CertifiedFrustum {
   int active_count = 0;
   bool empty = false;
   float m_safe = 0.0f;
+  // The fast path of the AABB and sphere tests (certified.cpp, "Fast path"), one entry per
+  // active plane in `active` order: plane k scaled by a power of two so that its bound sum is
+  // about 1, the constant part of its margin folded into d_out / d_in, and the part that grows
+  // with the volume's magnitude M made uniform over the planes: T = fl(t * M). A volume is
+  // outside when some plane's value with d_out (plus rho, spheres) is < -T, inside when every
+  // plane's value with d_in (minus rho) is >= T. Per volume this costs M and one product, not a
+  // margin per plane. Used when M <= m_safe; larger volumes take the guarded per-plane path.
+  std::array<CertifiedPlane, 6> fast_box{}, fast_sphere{};
+  float t_box = 0.0f, t_sphere = 0.0f;
 };
 
 /// Prepares planes given as planes (they are the exact truth).

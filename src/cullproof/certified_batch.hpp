@@ -1,7 +1,9 @@
 // Certified conservative SIMD batch culling (issue 7): structure-of-arrays AABBs and spheres,
-// Highway runtime dispatch (library cullproof::simd). Verdicts are bit-for-bit those of
-// certified_pn_vertex / certified_sphere on every input (same operations in the same order, no
-// FMA); volumes large enough to risk overflow are handed to the scalar functions.
+// Highway runtime dispatch (library cullproof::simd). The certified fast path of
+// certified_pn_vertex / certified_sphere, evaluated with fused multiply-adds where the target has
+// them (the certified bound allows it): the verdicts are those of the scalar functions except
+// within the rounding margin, where either may say `intersecting`; both are certified. Volumes
+// large enough to risk overflow are handed to the scalar functions.
 #pragma once
 
 #include "cullproof/certified.hpp"
@@ -11,12 +13,16 @@
 
 namespace cullproof {
 
-/// visible bit i set iff certified_pn_vertex(f, box i) != outside; `inside` (may be null) bit i
-/// set iff it is inside. Each array holds bitset_words(count) words; bits past count are zero.
+/// visible bit i clear iff box i is certainly outside; `inside` (may be null) bit i set iff it is
+/// certainly inside. Each array holds bitset_words(count) words; bits past count are zero.
+/// Boxes must be valid (min <= max).
 void certified_cull_aabbs_bitset(const CertifiedFrustum& f, const AabbSoa& boxes, std::uint64_t* visible,
                                  std::uint64_t* inside = nullptr);
-/// visible bit i set iff certified_sphere(f, sphere i) != outside; `inside` likewise.
+/// The same for spheres (radius >= 0).
 void certified_cull_spheres_bitset(const CertifiedFrustum& f, const SphereSoa& spheres, std::uint64_t* visible,
                                    std::uint64_t* inside = nullptr);
+
+/// Whether the dispatched SIMD target evaluates the batch kernels' multiply-adds fused (FMA).
+bool certified_batch_uses_fma();
 
 }  // namespace cullproof
