@@ -391,6 +391,8 @@ BENCHMARK(BM_batch_sphere_simd_bitset)->Unit(benchmark::kMillisecond)->ComputeSt
 struct Scene {
   std::vector<Aabb> boxes;
   Bvh bvh;
+  Bvh4 bvh4;  // collapsed from bvh
+  Bvh8 bvh8;  // collapsed from bvh
   Soa soa;
   Frustum all_visible;
 };
@@ -406,6 +408,8 @@ const Scene& scene_100k() {
       x.boxes.push_back(Aabb{lo, lo + glm::vec3(0.5f + 2 * u(rng), 1 + 19 * u(rng), 0.5f + 2 * u(rng))});
     }
     x.bvh = build_bvh(x.boxes, 1);
+    x.bvh4 = build_bvh4(x.bvh);
+    x.bvh8 = build_bvh8(x.bvh);
     for (const Aabb& b : x.boxes)
       for (int k = 0; k < 3; ++k) {
         x.soa.a[k].push_back(b.min[k]);
@@ -449,6 +453,8 @@ Frustum narrow_frustum() {
 }
 
 // view: 0 street (wide), 1 everything visible, 2 narrow (few visible: traversal cost alone).
+// kKind: 0 plain, 1 masked, 2 coherent (binary BVH), 3 / 4 masked on the 4- / 8-wide BVH (a
+// visited node there is a child lane tested, see cull_bvh4_masked; compare the absolute time too).
 void BM_bvh(benchmark::State& s, int kKind, int view) {
   const Scene& x = scene_100k();
   const Frustum f = view == 1 ? x.all_visible : view == 2 ? narrow_frustum() : street_frustum();
@@ -463,6 +469,8 @@ void BM_bvh(benchmark::State& s, int kKind, int view) {
     if (kKind == 0) cull_bvh_plain(f, x.bvh, out, total);
     if (kKind == 1) cull_bvh_masked(f, x.bvh, out, total);
     if (kKind == 2) cull_bvh_coherent(f, x.bvh, cache, out, total);
+    if (kKind == 3) cull_bvh4_masked(f, x.bvh4, out, total);
+    if (kKind == 4) cull_bvh8_masked(f, x.bvh8, out, total);
     benchmark::DoNotOptimize(out.indices.data());
   }
   const double it = double(s.iterations());
@@ -480,6 +488,12 @@ BENCHMARK_CAPTURE(BM_bvh, masked_all_visible, 1, 1)->Unit(benchmark::kMicrosecon
 BENCHMARK_CAPTURE(BM_bvh, plain_narrow, 0, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
 BENCHMARK_CAPTURE(BM_bvh, masked_narrow, 1, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
 BENCHMARK_CAPTURE(BM_bvh, coherent_narrow, 2, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide4_masked_street, 3, 0)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide4_masked_all_visible, 3, 1)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide4_masked_narrow, 3, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide8_masked_street, 4, 0)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide8_masked_all_visible, 4, 1)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide8_masked_narrow, 4, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
 
 // The flat batch scan of the same 100k leaves (bitset, and indices like the traversal output).
 void BM_flat_batch_100k_bitset(benchmark::State& s, bool all_visible) {

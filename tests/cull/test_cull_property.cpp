@@ -4,8 +4,9 @@
 // of its corners with weights bounded away from zero), and a volume containing the witness.
 //  - No method claiming conservative or exact says `outside` for a volume containing a point
 //    inside all planes by a clear margin.
-//  - Masked (and coherent) hierarchical traversal never changes a verdict relative to the
-//    unmasked traversal, nor to the flat n/p-vertex test.
+//  - Masked (and coherent) hierarchical traversal, on the binary BVH and on the 4- and 8-wide
+//    BVHs collapsed from it, never changes a verdict relative to the unmasked traversal, nor to
+//    the flat n/p-vertex test.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -191,6 +192,17 @@ RC_GTEST_PROP(CullProperty, MaskedTraversalNeverChangesAVerdict, ()) {
   RC_ASSERT(coherent.indices == plain.indices);
   RC_ASSERT(coherent.verdicts == plain.verdicts);
   RC_ASSERT(s2.plane_tests <= s1.plane_tests);
+  // The wide BVHs (collapsed from this one): the same output, order included.
+  VisibleSet wide4, wide8;
+  CullStats s4, s8;
+  cull_bvh4_masked(f, build_bvh4(bvh), wide4, s4);
+  cull_bvh8_masked(f, build_bvh8(bvh), wide8, s8);
+  RC_ASSERT(wide4.indices == plain.indices);
+  RC_ASSERT(wide4.verdicts == plain.verdicts);
+  RC_ASSERT(wide8.indices == plain.indices);
+  RC_ASSERT(wide8.verdicts == plain.verdicts);
+  RC_ASSERT(s4.nodes_visited >= 1u);
+  RC_ASSERT(s8.nodes_visited >= 1u);
   // And the flat test agrees.
   std::size_t visible = 0;
   for (const Aabb& b : boxes) visible += pn_vertex(f, b) != Visibility::outside;

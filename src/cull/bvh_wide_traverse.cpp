@@ -1,0 +1,390 @@
+// Plane-masked culling traversal of the wide BVHs (4 or 8 children per node; Highway, runtime
+// dispatch).
+//
+// Sources: Assarsson & Möller 2000, §3.1 (n/p-vertex test) and §3.4 "Masking" (shared/seeds/000);
+// Cesium blog "Fast Hierarchical Culling", "Hierarchical Culling with Plane Masking"
+// (shared/seeds/004); the all-children-at-once box test of Dammertz, Hanika & Keller 2008
+// (QBVH). Highway 1.0 foreach_target.h + HWY_EXPORT / HWY_DYNAMIC_DISPATCH; vectors of up to W
+// lanes (CappedTag<float, W>: one lane per child; 8 children take one AVX2/AVX-512 vector or two
+// SSE ones, and Highway's one-lane fallback target loops over the lanes).
+// Node test: a wide node reached with mask m evaluates, for each plane k of m (lowest first),
+// the p- and n-vertex values of its children in one vector each; the p-vertex reads the max
+// array where the normal component is > 0, as pn_vertex. Child j is outside iff some p-vertex
+// value of m is < 0; its mask is m minus the planes whose n-vertex value is >= 0.
+// Verdicts are bit-for-bit pn_vertex's (and cull_bvh_plain's / cull_bvh_masked's):
+//  - each value is s = (nx*x + ny*y) + nz*z with separate Mul and Add (no MulAdd; the build has
+//    -ffp-contract=off), the order of Plane::eval, compared with -d: fl(s + d) < 0 iff s < -d
+//    exactly (a rounded sum of two floats has the sign of the exact sum; batch_soa.cpp), and
+//    -0 and +0 compare equal as in the scalar `< 0`. A degenerate plane (n == 0) gives s = +-0,
+//    so the comparison is 0 < -d, the scalar's fl(0 + d) < 0.
+//  - masking never changes a verdict, rounding included, by the argument of bvh_traverse.cpp: a
+//    lane's box is a binary node's box, which lies within every ancestor lane's box (exact
+//    min/max); for a fixed normal the float evaluation is monotone in each coordinate (each
+//    product and each sum rounds monotonically) and the n-vertex is componentwise on the inner
+//    side of the ancestor's n-vertex, so a plane an ancestor is inside in float (n-vertex value
+//    >= 0) is one every descendant, primitive boxes included, is inside in float; and a box's
+//    p-vertex value is >= its n-vertex value, so no descendant is outside that plane. Hence a
+//    child outside a plane of m is outside in pn_vertex, a child accepted with mask 0 has every
+//    primitive inside, and a leaf lane of one primitive (its box is the primitive's box) still
+//    straddling a plane of its mask is intersecting.
+//  - testing children that the binary traversal would not reach (the collapsed intermediate
+//    nodes are not tested) changes only the work, not the verdicts: every verdict is decided by
+//    the primitive's own pn_vertex values through the argument above.
+// Output order: lanes are in binary depth-first order (bvh_wide_build.cpp); a node's visible
+// lanes are handled lowest first: those before its first lane to descend into are emitted at
+// once, that lane is traversed next, the later ones are pushed in reverse order and emitted or
+// traversed when popped, so the output is in leaf order, as cull_bvh_masked's.
+// Claim: conservative (as pn_vertex). Touching: as pn_vertex.
+// Counters: nodes_visited = the root plus every used lane (child) of a popped wide node: its box
+// is tested against the planes of m (m != 0 at a popped node: a child left with mask 0 is
+// accepted by its parent, as in cull_bvh_masked); plane_tests = popcount(m) per used lane (every
+// plane of m is evaluated for every lane: no early exit), plus the scalar tests of the root and
+// of the primitives of leaves of more than one primitive (early exit, as cull_bvh_masked).
+// Measured on bench_cull BM_bvh (100k leaves, street view, AVX3 target, 4-wide unless said):
+//  - the output goes through a local stage, one insert per 1024 primitives, and accepted
+//    subtrees of more than 64 primitives are inserted directly (instead of a push_back or an
+//    insert per lane: 55 -> 51 us; 8-wide 46 -> 44 us);
+//  - the deferred lanes' nodes are prefetched when pushed (8-wide: 55 -> 49 us without the
+//    direct inserts); prefetching every interior child before the test was slower (8-wide:
+//    58 us), and so was prefetching in a loop over the descending lanes only (47 us);
+//  - emitting the lanes without a branch per lane (fixed-size copies), and resuming a node's
+//    remaining lanes from one stack frame instead of one entry per lane, were both slower
+//    (60 and 75-80 us): with a still camera the branches are well predicted;
+//  - 8 children per node: 30% fewer nodes popped for the same lanes tested (44 vs 51 us).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "bvh_wide_traverse.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include "batch_util-inl.h"
+
+#include "cullproof/cull_bvh.hpp"
+
+#include <cstddef>
+#include <cstring>
+#include <vector>
+
+#ifndef CULLPROOF_BVH_WIDE_TRAVERSE_SHARED
+#define CULLPROOF_BVH_WIDE_TRAVERSE_SHARED
+namespace cullproof::bvh_wide_detail {
+
+static_assert(sizeof(Aabb) == 6 * sizeof(float), "Aabb must be six packed floats");
+static_assert(sizeof(Visibility) == 1, "one byte per verdict");
+
+// A plane with its p-vertex selection hoisted: index of the coordinate among the box's six
+// floats (Aabb: min x, y, z, max x, y, z; BvhWideNode::box rows in the same order).
+struct SelPlane {
+  float nx, ny, nz, d;
+  int px, py, pz, qx, qy, qz;  // p-vertex and n-vertex coordinate indices
+};
+
+struct Prepared {
+  SelPlane p[6];
+  explicit Prepared(const Frustum& f) {
+    for (int i = 0; i < 6; ++i) {
+      const Plane& pl = f[i];
+      SelPlane& s = p[i];
+      s.nx = pl.n.x; s.ny = pl.n.y; s.nz = pl.n.z; s.d = pl.d;
+      s.px = pl.n.x > 0.0f ? 3 : 0; s.qx = 3 - s.px;
+      s.py = pl.n.y > 0.0f ? 4 : 1; s.qy = 5 - s.py;
+      s.pz = pl.n.z > 0.0f ? 5 : 2; s.qz = 7 - s.pz;
+    }
+  }
+};
+
+// Scalar test of one plane (root box, primitives of multi-primitive leaves), as bvh_traverse.cpp:
+// 0 outside, 1 intersecting, 2 inside the plane.
+inline int test_plane(const SelPlane& s, const float* b) noexcept {
+  const float pv = ((s.nx * b[s.px] + s.ny * b[s.py]) + s.nz * b[s.pz]) + s.d;
+  if (pv < 0.0f) return 0;
+  const float nv = ((s.nx * b[s.qx] + s.ny * b[s.qy]) + s.nz * b[s.qz]) + s.d;
+  return nv < 0.0f ? 1 : 2;
+}
+
+// The output, staged in a local buffer and appended to the VisibleSet when it fills and at the
+// end (one insert per kStage primitives instead of a push_back or an insert per lane). The
+// VisibleSet keeps the order of the calls.
+struct Sink {
+  static constexpr std::uint32_t kStage = 1024, kChunk = 16;
+  VisibleSet& out;
+  const std::uint32_t* order;
+  std::uint32_t n_prims;
+  std::uint32_t n = 0;
+  std::uint32_t idx[kStage + kChunk];  // (slack for the last chunk copied)
+  Visibility v[kStage + kChunk];
+
+  Sink(VisibleSet& o, const std::vector<std::uint32_t>& prim_order)
+      : out(o), order(prim_order.data()), n_prims(static_cast<std::uint32_t>(prim_order.size())) {}
+  void flush() {
+    out.indices.insert(out.indices.end(), idx, idx + n);
+    out.verdicts.insert(out.verdicts.end(), v, v + n);
+    n = 0;
+  }
+  void one(std::uint32_t index, Visibility verdict) {
+    if (n >= kStage) flush();
+    idx[n] = index;
+    v[n] = verdict;
+    ++n;
+  }
+  // prim_order[first .. end) with one verdict: up to 4 chunks of kChunk copied whole (the part
+  // past `end` lands in the slack or is overwritten); longer ranges (and ranges within 64 of the
+  // end of prim_order) are inserted directly, after what is staged.
+  void range(std::uint32_t first, std::uint32_t end, Visibility verdict) {
+    const std::uint32_t len = end - first;
+    if (n + len > kStage) flush();
+    if (len <= 4 * kChunk && first + 4 * kChunk <= n_prims) {
+      const std::uint64_t pattern = 0x0101010101010101ull * static_cast<std::uint64_t>(verdict);
+      for (std::uint32_t c = 0; c < len; c += kChunk) {
+        std::memcpy(idx + n + c, order + first + c, kChunk * sizeof(std::uint32_t));
+        std::memcpy(v + n + c, &pattern, 8);
+        std::memcpy(v + n + c + 8, &pattern, 8);
+      }
+    } else {
+      if (n != 0) flush();
+      out.indices.insert(out.indices.end(), order + first, order + end);
+      out.verdicts.insert(out.verdicts.end(), len, verdict);
+      return;
+    }
+    n += len;
+  }
+};
+
+// The primitives [first, end) of a leaf whose box is visible and still straddles the planes of
+// mask, one by one as cull_bvh_masked does.
+template <class Tree>
+void test_leaf(const Prepared& prep, const Tree& bvh, std::uint32_t first, std::uint32_t end, std::uint32_t mask,
+               Sink& out, std::uint64_t& tests) {
+  for (std::uint32_t k = first; k < end; ++k) {
+    const float* pb = &bvh.prim_boxes[k].min.x;
+    bool out_k = false, inter = false;
+    for (std::uint32_t m = mask; m != 0; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      ++tests;
+      const int r = test_plane(prep.p[i], pb);
+      if (r == 0) { out_k = true; break; }
+      if (r == 1) inter = true;
+    }
+    if (out_k) continue;
+    out.one(bvh.prim_order[k], inter ? Visibility::intersecting : Visibility::inside);
+  }
+}
+
+// Stack entry: a wide node to test (a = node index); a single-primitive leaf still straddling a
+// plane, intersecting; a leaf of several primitives still straddling the planes of the mask; or a
+// subtree accepted with mask 0 (for these three a = the first primitive, end = the range's end).
+enum : std::uint32_t { kNode = 0u << 8, kLeaf1 = 1u << 8, kLeafN = 2u << 8, kAccept = 3u << 8, kKindMask = 3u << 8 };
+struct Entry {
+  std::uint32_t a;
+  std::uint32_t end;
+  std::uint32_t mask_kind;  // plane mask in bits 0..5, kind in bits 8..9
+};
+
+// Byte j of spread_bits(b) = bit j of b (b < 256): a lane's bit moved to the lane's byte.
+struct SpreadTable {
+  std::uint64_t t[256];
+  constexpr SpreadTable() : t() {
+    for (int b = 0; b < 256; ++b)
+      for (int j = 0; j < 8; ++j) t[b] |= static_cast<std::uint64_t>((b >> j) & 1) << (8 * j);
+  }
+};
+inline constexpr SpreadTable kSpread{};
+
+// A wide node's lanes after the test against the planes of m (bit j: lane j).
+struct Lanes {
+  std::uint32_t used;      // lanes in use
+  std::uint32_t interior;  // lanes holding an interior child
+  std::uint32_t outside;   // lanes outside some plane of m
+  std::uint32_t inside;    // lanes inside every plane of m (their mask is 0)
+  std::uint64_t masks;     // byte j: lane j's mask, m minus the planes it is inside
+  std::uint32_t mask(int j) const noexcept { return static_cast<std::uint32_t>(masks >> (8 * j)) & 0x3fu; }
+};
+
+}  // namespace cullproof::bvh_wide_detail
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace cullproof {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Tests the W lanes of `node` against the planes of m (m != 0, lowest plane first), N lanes per
+// vector. Unused lanes hold a copy of lane 0's box (finite: no NaN); `used` masks them off.
+template <int W>
+HWY_INLINE void TestLanes(const bvh_wide_detail::Prepared& prep, const BvhWideNode<W>& node, std::uint32_t m,
+                          bvh_wide_detail::Lanes& l) {
+  const hn::CappedTag<float, W> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  using V = hn::Vec<decltype(d)>;
+  constexpr int kN = static_cast<int>(MaxLanes(d));
+  static_assert(W % kN == 0, "whole vectors per node");
+  // Child references as int32: interior >= 0, leaf < -1, unused -1.
+  l.used = l.interior = l.outside = 0;
+  for (int o = 0; o < W; o += kN) {
+    const auto c = hn::BitCast(di, hn::Load(hn::RebindToUnsigned<decltype(d)>(), node.child + o));
+    l.used |= static_cast<std::uint32_t>(mask_bits(di, hn::Eq(c, hn::Set(di, -1)))) << o;
+    l.interior |= static_cast<std::uint32_t>(mask_bits(di, hn::Lt(c, hn::Zero(di)))) << o;
+  }
+  l.used = ~l.used & ((1u << W) - 1u);
+  l.interior = ~l.interior & ((1u << W) - 1u);
+  l.inside = (1u << W) - 1u;
+  l.masks = 0x0101010101010101ull * m;
+  for (std::uint32_t bits = m; bits != 0; bits &= bits - 1) {
+    const int k = __builtin_ctz(bits);
+    const bvh_wide_detail::SelPlane& s = prep.p[k];
+    const V nx = hn::Set(d, s.nx), ny = hn::Set(d, s.ny), nz = hn::Set(d, s.nz), nd = hn::Set(d, -s.d);
+    std::uint32_t in = 0;
+    for (int o = 0; o < W; o += kN) {
+      V pv = hn::Mul(nx, hn::Load(d, node.box[s.px] + o));
+      pv = hn::Add(pv, hn::Mul(ny, hn::Load(d, node.box[s.py] + o)));
+      pv = hn::Add(pv, hn::Mul(nz, hn::Load(d, node.box[s.pz] + o)));
+      V nv = hn::Mul(nx, hn::Load(d, node.box[s.qx] + o));
+      nv = hn::Add(nv, hn::Mul(ny, hn::Load(d, node.box[s.qy] + o)));
+      nv = hn::Add(nv, hn::Mul(nz, hn::Load(d, node.box[s.qz] + o)));
+      l.outside |= static_cast<std::uint32_t>(mask_bits(d, hn::Lt(pv, nd))) << o;
+      in |= static_cast<std::uint32_t>(mask_bits(d, hn::Ge(nv, nd))) << o;
+    }
+    l.inside &= in;
+    l.masks &= ~(bvh_wide_detail::kSpread.t[in] << k);
+  }
+}
+
+template <int W>
+void WideMasked(const bvh_wide_detail::Prepared& prep, const BvhWide<W>& bvh, VisibleSet& out_set,
+                CullStats& stats) {
+  using namespace bvh_wide_detail;
+  const std::uint32_t n_prims = static_cast<std::uint32_t>(bvh.prim_order.size());
+  Sink out(out_set, bvh.prim_order);
+  std::uint64_t visited = 1, tests = 0;
+  // The root box: the scalar six-plane test, as cull_bvh_masked's root.
+  std::uint32_t mask = 0x3fu;
+  bool outside = false;
+  const float* rb = &bvh.root_box.min.x;
+  for (std::uint32_t m = mask; m != 0; m &= m - 1) {
+    const int i = __builtin_ctz(m);
+    ++tests;
+    const int r = test_plane(prep.p[i], rb);
+    if (r == 0) { outside = true; break; }
+    if (r == 2) mask &= ~(1u << i);
+  }
+  if (outside) {
+    // nothing visible
+  } else if (mask == 0) {
+    out.range(0, n_prims, Visibility::inside);
+  } else if (bvh.root != 0) {
+    if (n_prims == 1) out.one(bvh.prim_order[0], Visibility::intersecting);  // the leaf box is the primitive's box
+    else test_leaf(prep, bvh, 0, n_prims, mask, out, tests);
+  } else {
+    // A node leaves at most W - 1 of its lanes on the stack per level, and writes W entries
+    // (the ones not kept are overwritten later).
+    constexpr std::size_t kLocal = 512;
+    Entry local[kLocal];
+    std::vector<Entry> heap;
+    const std::size_t need = (W - 1) * std::size_t{bvh.depth} + W;
+    Entry* stack = local;
+    if (need > kLocal) {
+      heap.resize(need);
+      stack = heap.data();
+    }
+    std::size_t top = 0;
+    const BvhWideNode<W>* nodes = bvh.nodes.data();
+    Lanes l;
+    Entry e{0, n_prims, kNode | mask};  // the entry in hand; the stack holds the deferred ones
+    for (;;) {
+      const std::uint32_t kind = e.mask_kind & kKindMask, m = e.mask_kind & 0x3fu;
+      if (kind != kNode) {
+        if (kind == kLeaf1) out.one(bvh.prim_order[e.a], Visibility::intersecting);
+        else if (kind == kAccept) out.range(e.a, e.end, Visibility::inside);
+        else test_leaf(prep, bvh, e.a, e.end, m, out, tests);
+        if (top == 0) break;
+        e = stack[--top];
+        continue;
+      }
+      const BvhWideNode<W>& node = nodes[e.a];
+      TestLanes<W>(prep, node, m, l);
+      const std::uint32_t n_used = static_cast<std::uint32_t>(__builtin_popcount(l.used));
+      visited += n_used;
+      tests += std::uint64_t{n_used} * static_cast<std::uint32_t>(__builtin_popcount(m));
+      const std::uint32_t vis = l.used & ~l.outside;
+      if (vis == 0) {
+        if (top == 0) break;
+        e = stack[--top];
+        continue;
+      }
+      const std::uint32_t straddle = vis & ~l.inside;      // visible, mask != 0
+      const std::uint32_t descend = straddle & l.interior;  // to traverse
+      // Lanes before the first descending one: emitted now, in lane order (all of them when
+      // none descends).
+      const std::uint32_t now = vis & ((descend & (0u - descend)) - 1u);
+      for (std::uint32_t b = now; b != 0; b &= b - 1) {
+        const int j = __builtin_ctz(b);
+        const std::uint32_t first = node.first[j], end = j < W - 1 ? node.first[j + 1] : e.end;
+        if (!((straddle >> j) & 1u)) out.range(first, end, Visibility::inside);
+        else if (end - first == 1) out.one(bvh.prim_order[first], Visibility::intersecting);
+        else test_leaf(prep, bvh, first, end, l.mask(j), out, tests);
+      }
+      // The rest, from the last lane down (popped in lane order); every lane's entry is written
+      // and kept only if the lane is in `later` (no branch per lane).
+      const std::uint32_t later = vis & ~now;
+      if (later == 0) {
+        if (top == 0) break;
+        e = stack[--top];
+        continue;
+      }
+      // The first of them (a lane to descend into) is taken next without the stack.
+      const std::uint32_t deferred = later & (later - 1u);
+      const int j0 = __builtin_ctz(later);
+      const Entry next{node.child[j0], j0 < W - 1 ? node.first[j0 + 1] : e.end, kNode | l.mask(j0)};
+      for (int j = W - 1; j >= 0; --j) {
+        const std::uint32_t down = (descend >> j) & 1u, cut = (straddle >> j) & 1u;
+        const std::uint32_t end = j < W - 1 ? node.first[j + 1] : e.end;
+        const bool single = end - node.first[j] == 1;
+        const std::uint32_t kind_j = down ? kNode : !cut ? kAccept : single ? kLeaf1 : kLeafN;
+        stack[top] = Entry{down ? node.child[j] : node.first[j], end, kind_j | l.mask(j)};
+        const char* pf = reinterpret_cast<const char*>(nodes + (down ? node.child[j] : e.a));
+        for (std::size_t line = 0; line < sizeof(BvhWideNode<W>); line += 64) __builtin_prefetch(pf + line);
+        top += (deferred >> j) & 1u;
+      }
+      e = next;
+    }
+  }
+  out.flush();
+  stats.nodes_visited += visited;
+  stats.plane_tests += tests;
+}
+
+void Bvh4Masked(const bvh_wide_detail::Prepared& prep, const Bvh4& bvh, VisibleSet& out, CullStats& stats) {
+  WideMasked<4>(prep, bvh, out, stats);
+}
+void Bvh8Masked(const bvh_wide_detail::Prepared& prep, const Bvh8& bvh, VisibleSet& out, CullStats& stats) {
+  WideMasked<8>(prep, bvh, out, stats);
+}
+
+const char* WideTargetImpl() { return hwy::TargetName(HWY_TARGET); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace cullproof
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace cullproof {
+
+HWY_EXPORT(Bvh4Masked);
+HWY_EXPORT(Bvh8Masked);
+HWY_EXPORT(WideTargetImpl);
+
+void cull_bvh4_masked(const Frustum& f, const Bvh4& bvh, VisibleSet& out, CullStats& stats) {
+  out.clear();
+  if (bvh.root == kBvhWideEmpty) return;
+  HWY_DYNAMIC_DISPATCH(Bvh4Masked)(bvh_wide_detail::Prepared(f), bvh, out, stats);
+}
+
+void cull_bvh8_masked(const Frustum& f, const Bvh8& bvh, VisibleSet& out, CullStats& stats) {
+  out.clear();
+  if (bvh.root == kBvhWideEmpty) return;
+  HWY_DYNAMIC_DISPATCH(Bvh8Masked)(bvh_wide_detail::Prepared(f), bvh, out, stats);
+}
+
+const char* bvh_wide_simd_target() { return HWY_DYNAMIC_DISPATCH(WideTargetImpl)(); }
+
+}  // namespace cullproof
+#endif  // HWY_ONCE
