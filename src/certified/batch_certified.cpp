@@ -79,6 +79,16 @@ HWY_INLINE V in_register(V v) {
   return v;
 }
 
+// Batches of more than 64k boxes (past L2) prefetch the six arrays 8 words ahead, as the plain
+// batch does (src/cull/batch_soa.cpp); the p- and n-vertex arrays of plane 0 are the six.
+constexpr std::size_t kPrefetchWords = 1024, kPrefetchAhead = 8;
+HWY_INLINE void prefetch_ahead(const CertPlane& p0, std::size_t w, std::size_t total_words) {
+  if (total_words <= kPrefetchWords || w + kPrefetchAhead >= total_words) return;
+  const float* arr[6] = {p0.px, p0.py, p0.pz, p0.qx, p0.qy, p0.qz};
+  for (int c = 0; c < 6; ++c)
+    for (int l = 0; l < 64; l += 16) __builtin_prefetch(arr[c] + (w + kPrefetchAhead) * 64 + l);
+}
+
 // |x| as bits (sign cleared): for non-negative floats the unsigned order of the bits is the
 // order of the values, and a NaN sorts above infinity, so M over bits is exact and NaN-proof.
 template <class DU, class V>
@@ -91,8 +101,8 @@ HWY_INLINE hn::Vec<DU> abs_bits(DU du, V v) {
 // for M. kCount: 6 (unrolled) or 0 (count at run time).
 template <bool kInside, bool kCovered, int kCount>
 HWY_INLINE void CertAabbImpl(const CertPlane* planes, int count, const Arrays& a, float t, float m_safe,
-                             std::size_t w_begin, std::size_t w_end, std::uint64_t* visible, std::uint64_t* inside,
-                             std::uint8_t* unsafe) {
+                             std::size_t w_begin, std::size_t w_end, std::size_t total_words, std::uint64_t* visible,
+                             std::uint64_t* inside, std::uint8_t* unsafe) {
   const hn::ScalableTag<float> d;
   const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
@@ -111,6 +121,7 @@ HWY_INLINE void CertAabbImpl(const CertPlane* planes, int count, const Arrays& a
   for (std::size_t w = w_begin; w < w_end; ++w) {
     std::uint64_t vis = 0, ins = 0;
     VU mword = hn::Zero(du);
+    prefetch_ahead(planes[0], w, total_words);
     for (std::size_t j = 0; j < 64; j += N) {
       const std::size_t i = w * 64 + j;
       VU mb = hn::Zero(du);
@@ -145,21 +156,107 @@ HWY_INLINE void CertAabbImpl(const CertPlane* planes, int count, const Arrays& a
   }
 }
 
+// The covered case with all six planes, specialised on the octant of plane 0's normal (bit 0:
+// n_x >= 0, bit 1: n_y >= 0, bit 2: n_z >= 0): planes 0 and 1 lie in opposite octants, so their
+// p-vertex loads are, register by register, known to be max_j or min_j, and M = max(max_j,
+// -min_j) costs six operations (the same value as max |coordinate| for a valid box).
+template <bool kInside, int kOct>
+HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, std::size_t w_begin, std::size_t w_end,
+                               std::size_t total_words, std::uint64_t* visible, std::uint64_t* inside,
+                               std::uint8_t* unsafe) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  using V = hn::Vec<decltype(d)>;
+  using VU = hn::Vec<decltype(du)>;
+  const std::size_t N = hn::Lanes(d);
+  V nx[6], ny[6], nz[6], dout[6], din[6];
+  for (int k = 0; k < 6; ++k) {
+    nx[k] = hn::Set(d, planes[k].nx);
+    ny[k] = hn::Set(d, planes[k].ny);
+    nz[k] = hn::Set(d, planes[k].nz);
+    dout[k] = hn::Set(d, planes[k].d_out);
+    din[k] = hn::Set(d, planes[k].d_in);
+  }
+  const V ntv = hn::Set(d, -t), msafe = hn::Set(d, m_safe);
+  for (std::size_t w = w_begin; w < w_end; ++w) {
+    std::uint64_t vis = 0, ins = 0;
+    VU mword = hn::Zero(du);
+    prefetch_ahead(planes[0], w, total_words);
+    for (std::size_t j = 0; j < 64; j += N) {
+      const std::size_t i = w * 64 + j;
+      V p[2][3];
+      for (int k = 0; k < 2; ++k) {
+        p[k][0] = in_register(hn::LoadU(d, planes[k].px + i));
+        p[k][1] = in_register(hn::LoadU(d, planes[k].py + i));
+        p[k][2] = in_register(hn::LoadU(d, planes[k].pz + i));
+      }
+      constexpr int kx = (kOct & 1) ? 0 : 1, ky = (kOct & 2) ? 0 : 1, kz = (kOct & 4) ? 0 : 1;  // plane with max_j
+      const V hi = hn::Max(hn::Max(p[kx][0], p[ky][1]), p[kz][2]);
+      const V lo = hn::Min(hn::Min(p[1 - kx][0], p[1 - ky][1]), p[1 - kz][2]);
+      const V m = hn::Max(hi, hn::Neg(lo));
+      V minp = hn::Min(plane3(nx[0], ny[0], nz[0], dout[0], p[0][0], p[0][1], p[0][2]),
+                       plane3(nx[1], ny[1], nz[1], dout[1], p[1][0], p[1][1], p[1][2]));
+      V minn = minp;
+#pragma GCC unroll 4
+      for (int k = 2; k < 6; ++k) {
+        const CertPlane& s = planes[k];
+        minp = hn::Min(minp, plane3(nx[k], ny[k], nz[k], dout[k], hn::LoadU(d, s.px + i), hn::LoadU(d, s.py + i),
+                                    hn::LoadU(d, s.pz + i)));
+      }
+      if (kInside) {
+        minn = hn::Set(d, HUGE_VALF);
+        for (int k = 0; k < 6; ++k) {
+          const CertPlane& s = planes[k];
+          minn = hn::Min(minn, plane3(nx[k], ny[k], nz[k], din[k], hn::LoadU(d, s.qx + i), hn::LoadU(d, s.qy + i),
+                                      hn::LoadU(d, s.qz + i)));
+        }
+      }
+      mword = hn::Max(mword, hn::BitCast(du, m));  // m >= 0 for valid boxes; a NaN sorts high
+      const V ntm = hn::Mul(ntv, m);  // -T: fl(-t M) = -fl(t M)
+      const auto v = hn::Ge(minp, ntm);
+      vis |= mask_bits(d, v) << j;
+      if (kInside) ins |= mask_bits(d, hn::And(v, hn::Ge(minn, hn::Neg(ntm)))) << j;
+    }
+    visible[w] = vis;
+    if (kInside) inside[w] = ins;
+    unsafe[w - w_begin] = hn::AllTrue(d, hn::Le(hn::BitCast(d, mword), msafe)) ? 0u : 1u;
+  }
+}
+
+template <bool kInside>
+HWY_INLINE void CertAabbOctantDispatch(const CertPlane* planes, float t, float m_safe, std::size_t w0, std::size_t w1,
+                                       std::size_t tw, std::uint64_t* visible, std::uint64_t* inside,
+                                       std::uint8_t* unsafe) {
+  const int oct = (planes[0].nx >= 0.0f ? 1 : 0) | (planes[0].ny >= 0.0f ? 2 : 0) | (planes[0].nz >= 0.0f ? 4 : 0);
+  switch (oct) {
+    case 0: return CertAabbOctant<kInside, 0>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+    case 1: return CertAabbOctant<kInside, 1>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+    case 2: return CertAabbOctant<kInside, 2>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+    case 3: return CertAabbOctant<kInside, 3>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+    case 4: return CertAabbOctant<kInside, 4>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+    case 5: return CertAabbOctant<kInside, 5>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+    case 6: return CertAabbOctant<kInside, 6>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+    default: return CertAabbOctant<kInside, 7>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+  }
+}
+
 template <bool kInside>
 HWY_INLINE void CertAabbDispatch(const CertPlane* planes, int count, bool covered, const Arrays& a, float t,
-                                 float m_safe, std::size_t w0, std::size_t w1, std::uint64_t* visible,
+                                 float m_safe, std::size_t w0, std::size_t w1, std::size_t tw, std::uint64_t* visible,
                                  std::uint64_t* inside, std::uint8_t* unsafe) {
   if (count == 6 && covered)
-    return CertAabbImpl<kInside, true, 6>(planes, count, a, t, m_safe, w0, w1, visible, inside, unsafe);
-  if (count == 6) return CertAabbImpl<kInside, false, 6>(planes, count, a, t, m_safe, w0, w1, visible, inside, unsafe);
-  CertAabbImpl<kInside, false, 0>(planes, count, a, t, m_safe, w0, w1, visible, inside, unsafe);
+    return CertAabbOctantDispatch<kInside>(planes, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+  if (count == 6)
+    return CertAabbImpl<kInside, false, 6>(planes, count, a, t, m_safe, w0, w1, tw, visible, inside, unsafe);
+  CertAabbImpl<kInside, false, 0>(planes, count, a, t, m_safe, w0, w1, tw, visible, inside, unsafe);
 }
 
 void CertAabbKernel(const CertPlane* planes, int count, bool covered, const Arrays& a, float t, float m_safe,
-                    std::size_t w0, std::size_t w1, std::uint64_t* visible, std::uint64_t* inside,
-                    std::uint8_t* unsafe) {
-  if (inside) return CertAabbDispatch<true>(planes, count, covered, a, t, m_safe, w0, w1, visible, inside, unsafe);
-  CertAabbDispatch<false>(planes, count, covered, a, t, m_safe, w0, w1, visible, inside, unsafe);
+                    std::size_t w0, std::size_t w1, std::size_t total_words, std::uint64_t* visible,
+                    std::uint64_t* inside, std::uint8_t* unsafe) {
+  if (inside)
+    return CertAabbDispatch<true>(planes, count, covered, a, t, m_safe, w0, w1, total_words, visible, inside, unsafe);
+  CertAabbDispatch<false>(planes, count, covered, a, t, m_safe, w0, w1, total_words, visible, inside, unsafe);
 }
 
 // Spheres: M = fl(max |c_j| + r), T = fl(t M); visible iff min_k fl(r |n'_k| + s_k) >= -T with
@@ -313,8 +410,8 @@ void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, 
     CertPlane planes[6];
     const bool covered = prepare(s, planes);
     const certified_batch_detail::Arrays arrays{{s.min_x, s.min_y, s.min_z}, {s.max_x, s.max_y, s.max_z}};
-    HWY_DYNAMIC_DISPATCH(CertAabbKernel)(planes, f.active_count, covered, arrays, f.t_box, f.m_safe, w0, w1, vis, ins,
-                                         flags);
+    HWY_DYNAMIC_DISPATCH(CertAabbKernel)(planes, f.active_count, covered, arrays, f.t_box, f.m_safe, w0, w1,
+                                         s.count / 64, vis, ins, flags);
   };
   auto unsafe_lane = [&](const AabbSoa& s, std::size_t i) {
     const std::uint32_t m = std::max({abs_bits(s.min_x[i]), abs_bits(s.min_y[i]), abs_bits(s.min_z[i]),
