@@ -80,6 +80,40 @@ HWY_INLINE V in_register(V v) {
   return v;
 }
 
+// The fast planes as vectors: one broadcast per coefficient, once per kernel call.
+template <class D>
+struct PlaneVecs {
+  using V = hn::Vec<D>;
+  V nx[6], ny[6], nz[6], dout[6], din[6], len[6];
+  PlaneVecs(D d, const CertPlane* p, int n) {
+    for (int k = 0; k < n; ++k) {
+      nx[k] = hn::Set(d, p[k].nx);
+      ny[k] = hn::Set(d, p[k].ny);
+      nz[k] = hn::Set(d, p[k].nz);
+      dout[k] = hn::Set(d, p[k].d_out);
+      din[k] = hn::Set(d, p[k].d_in);
+      len[k] = hn::Set(d, p[k].norm);
+    }
+  }
+};
+
+// A vector's verdicts into the word's bits: visible iff min v >= -T, inside iff also min w >= T.
+template <bool kInside, class D, class V>
+HWY_INLINE void record(D d, V minp, V minn, V ntm, std::size_t j, std::uint64_t& vis, std::uint64_t& ins) {
+  const auto v = hn::Ge(minp, ntm);
+  vis |= mask_bits(d, v) << j;
+  if (kInside) ins |= mask_bits(d, hn::And(v, hn::Ge(minn, hn::Neg(ntm)))) << j;
+}
+
+// A word's bits out, and its flag: some lane's M (the bits' maximum) above m_safe, or NaN.
+template <bool kInside, class D, class VU>
+HWY_INLINE void store_word(D d, std::size_t w, std::size_t w_begin, std::uint64_t vis, std::uint64_t ins, VU mword,
+                           hn::Vec<D> msafe, std::uint64_t* visible, std::uint64_t* inside, std::uint8_t* unsafe) {
+  visible[w] = vis;
+  if (kInside) inside[w] = ins;
+  unsafe[w - w_begin] = hn::AllTrue(d, hn::Le(hn::BitCast(d, mword), msafe)) ? 0u : 1u;
+}
+
 // Batches of more than 64k boxes (past L2) prefetch the six arrays 8 words ahead, as the plain
 // batch does (src/cull/batch_soa.cpp); the p- and n-vertex arrays of plane 0 are the six.
 constexpr std::size_t kPrefetchWords = 1024, kPrefetchAhead = 8;
@@ -110,14 +144,8 @@ HWY_INLINE void CertAabbImpl(const CertPlane* planes, int count, const Arrays& a
   using VU = hn::Vec<decltype(du)>;
   const std::size_t N = hn::Lanes(d);
   const int n = kCount > 0 ? kCount : count;
-  V nx[6], ny[6], nz[6], dout[6], din[6];
-  for (int k = 0; k < n; ++k) {
-    nx[k] = hn::Set(d, planes[k].nx);
-    ny[k] = hn::Set(d, planes[k].ny);
-    nz[k] = hn::Set(d, planes[k].nz);
-    dout[k] = hn::Set(d, planes[k].d_out);
-    din[k] = hn::Set(d, planes[k].d_in);
-  }
+  const PlaneVecs<decltype(d)> pv(d, planes, n);
+  const V(&nx)[6] = pv.nx, (&ny)[6] = pv.ny, (&nz)[6] = pv.nz, (&dout)[6] = pv.dout, (&din)[6] = pv.din;
   const V ntv = hn::Set(d, -t), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
   for (std::size_t w = w_begin; w < w_end; ++w) {
     std::uint64_t vis = 0, ins = 0;
@@ -140,13 +168,9 @@ HWY_INLINE void CertAabbImpl(const CertPlane* planes, int count, const Arrays& a
       }
       mword = hn::Max(mword, mb);
       const V ntm = hn::Mul(ntv, hn::BitCast(d, mb));  // -T: fl(-t M) = -fl(t M)
-      const auto v = hn::Ge(minp, ntm);
-      vis |= mask_bits(d, v) << j;
-      if (kInside) ins |= mask_bits(d, hn::And(v, hn::Ge(minn, hn::Neg(ntm)))) << j;
+      record<kInside>(d, minp, minn, ntm, j, vis, ins);
     }
-    visible[w] = vis;
-    if (kInside) inside[w] = ins;
-    unsafe[w - w_begin] = hn::AllTrue(d, hn::Le(hn::BitCast(d, mword), msafe)) ? 0u : 1u;
+    store_word<kInside>(d, w, w_begin, vis, ins, mword, msafe, visible, inside, unsafe);
   }
 }
 
@@ -163,14 +187,8 @@ HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, s
   using V = hn::Vec<decltype(d)>;
   using VU = hn::Vec<decltype(du)>;
   const std::size_t N = hn::Lanes(d);
-  V nx[6], ny[6], nz[6], dout[6], din[6];
-  for (int k = 0; k < 6; ++k) {
-    nx[k] = hn::Set(d, planes[k].nx);
-    ny[k] = hn::Set(d, planes[k].ny);
-    nz[k] = hn::Set(d, planes[k].nz);
-    dout[k] = hn::Set(d, planes[k].d_out);
-    din[k] = hn::Set(d, planes[k].d_in);
-  }
+  const PlaneVecs<decltype(d)> pv(d, planes, 6);
+  const V(&nx)[6] = pv.nx, (&ny)[6] = pv.ny, (&nz)[6] = pv.nz, (&dout)[6] = pv.dout, (&din)[6] = pv.din;
   const V ntv = hn::Set(d, -t), msafe = hn::Set(d, m_safe);
   for (std::size_t w = w_begin; w < w_end; ++w) {
     std::uint64_t vis = 0, ins = 0;
@@ -207,13 +225,9 @@ HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, s
       }
       mword = hn::Max(mword, hn::BitCast(du, m));  // m >= 0 for valid boxes; a NaN sorts high
       const V ntm = hn::Mul(ntv, m);  // -T: fl(-t M) = -fl(t M)
-      const auto v = hn::Ge(minp, ntm);
-      vis |= mask_bits(d, v) << j;
-      if (kInside) ins |= mask_bits(d, hn::And(v, hn::Ge(minn, hn::Neg(ntm)))) << j;
+      record<kInside>(d, minp, minn, ntm, j, vis, ins);
     }
-    visible[w] = vis;
-    if (kInside) inside[w] = ins;
-    unsafe[w - w_begin] = hn::AllTrue(d, hn::Le(hn::BitCast(d, mword), msafe)) ? 0u : 1u;
+    store_word<kInside>(d, w, w_begin, vis, ins, mword, msafe, visible, inside, unsafe);
   }
 }
 
@@ -265,15 +279,9 @@ HWY_INLINE void CertSphereImpl(const CertPlane* planes, int count, const float* 
   using VU = hn::Vec<decltype(du)>;
   const std::size_t N = hn::Lanes(d);
   const int n = kCount > 0 ? kCount : count;
-  V nx[6], ny[6], nz[6], dout[6], din[6], len[6];
-  for (int k = 0; k < n; ++k) {
-    nx[k] = hn::Set(d, planes[k].nx);
-    ny[k] = hn::Set(d, planes[k].ny);
-    nz[k] = hn::Set(d, planes[k].nz);
-    dout[k] = hn::Set(d, planes[k].d_out);
-    din[k] = hn::Set(d, planes[k].d_in);
-    len[k] = hn::Set(d, planes[k].norm);
-  }
+  const PlaneVecs<decltype(d)> pv(d, planes, n);
+  const V(&nx)[6] = pv.nx, (&ny)[6] = pv.ny, (&nz)[6] = pv.nz, (&dout)[6] = pv.dout, (&din)[6] = pv.din,
+      (&len)[6] = pv.len;
   const V ntv = hn::Set(d, -t), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
   for (std::size_t w = w_begin; w < w_end; ++w) {
     std::uint64_t vis = 0, ins = 0;
@@ -290,13 +298,9 @@ HWY_INLINE void CertSphereImpl(const CertPlane* planes, int count, const float* 
         minp = hn::Min(minp, hn::MulAdd(rad, len[k], plane3(nx[k], ny[k], nz[k], dout[k], cx, cy, cz)));
         if (kInside) minn = hn::Min(minn, hn::NegMulAdd(rad, len[k], plane3(nx[k], ny[k], nz[k], din[k], cx, cy, cz)));
       }
-      const auto v = hn::Ge(minp, ntm);
-      vis |= mask_bits(d, v) << j;
-      if (kInside) ins |= mask_bits(d, hn::And(v, hn::Ge(minn, hn::Neg(ntm)))) << j;
+      record<kInside>(d, minp, minn, ntm, j, vis, ins);
     }
-    visible[w] = vis;
-    if (kInside) inside[w] = ins;
-    unsafe[w - w_begin] = hn::AllTrue(d, hn::Le(hn::BitCast(d, mword), msafe)) ? 0u : 1u;
+    store_word<kInside>(d, w, w_begin, vis, ins, mword, msafe, visible, inside, unsafe);
   }
 }
 

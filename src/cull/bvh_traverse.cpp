@@ -22,44 +22,17 @@
 // visited node.)
 #include "cullproof/cull_bvh.hpp"
 
+#include "bvh_planes.hpp"
+
 #include <cstddef>
 
 namespace cullproof {
 
 namespace {
 
-static_assert(sizeof(Aabb) == 6 * sizeof(float), "Aabb must be six packed floats");
-static_assert(offsetof(Aabb, max) == 3 * sizeof(float), "Aabb layout: min then max");
-
-// A plane with its p-vertex selection hoisted: index into the box's six floats.
-struct SelPlane {
-  float nx, ny, nz, d;
-  int px, py, pz, qx, qy, qz;  // p-vertex and n-vertex float indices
-};
-
-struct Prepared {
-  SelPlane p[6];
-  explicit Prepared(const Frustum& f) {
-    for (int i = 0; i < 6; ++i) {
-      const Plane& pl = f[i];
-      SelPlane& s = p[i];
-      s.nx = pl.n.x; s.ny = pl.n.y; s.nz = pl.n.z; s.d = pl.d;
-      s.px = pl.n.x > 0.0f ? 3 : 0; s.qx = 3 - s.px;
-      s.py = pl.n.y > 0.0f ? 4 : 1; s.qy = 5 - s.py;
-      s.pz = pl.n.z > 0.0f ? 5 : 2; s.qz = 7 - s.pz;
-    }
-  }
-};
-
-inline const float* floats(const Aabb& b) noexcept { return &b.min.x; }
-
-// 0 outside, 1 intersecting, 2 inside the plane.
-inline int test_plane(const SelPlane& s, const float* b) noexcept {
-  const float pv = ((s.nx * b[s.px] + s.ny * b[s.py]) + s.nz * b[s.pz]) + s.d;
-  if (pv < 0.0f) return 0;
-  const float nv = ((s.nx * b[s.qx] + s.ny * b[s.qy]) + s.nz * b[s.qz]) + s.d;
-  return nv < 0.0f ? 1 : 2;
-}
+using bvh_detail::floats;
+using bvh_detail::Prepared;
+using bvh_detail::test_plane;
 
 void append_subtree(const Bvh& bvh, std::uint32_t node, VisibleSet& out) {
   const std::uint32_t first = bvh.subtree_prims[node][0], last = bvh.subtree_prims[node][1];
@@ -128,19 +101,10 @@ void traverse(const Frustum& f, const Bvh& bvh, std::int8_t* cache, VisibleSet& 
         continue;
       }
       for (std::uint32_t k = node.right_or_first; k < node.right_or_first + node.count; ++k) {
-        const float* pb = floats(bvh.prim_boxes[k]);
-        const std::uint32_t pmask = kMask ? mask : 0x3fu;
-        bool out_k = false, inter = false;
-        for (std::uint32_t m = pmask; m != 0; m &= m - 1) {
-          const int i = __builtin_ctz(m);
-          ++tests;
-          const int r = test_plane(prep.p[i], pb);
-          if (r == 0) { out_k = true; break; }
-          if (r == 1) inter = true;
-        }
-        if (out_k) continue;
+        const int r = bvh_detail::test_masked(prep, floats(bvh.prim_boxes[k]), kMask ? mask : 0x3fu, tests);
+        if (r == 0) continue;
         out.indices.push_back(bvh.prim_order[k]);
-        out.verdicts.push_back(inter ? Visibility::intersecting : Visibility::inside);
+        out.verdicts.push_back(r == 1 ? Visibility::intersecting : Visibility::inside);
       }
       continue;
     }

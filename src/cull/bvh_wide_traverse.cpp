@@ -60,6 +60,8 @@
 
 #include "cullproof/cull_bvh.hpp"
 
+#include "bvh_planes.hpp"
+
 #include <cstddef>
 #include <cstring>
 #include <vector>
@@ -68,38 +70,13 @@
 #define CULLPROOF_BVH_WIDE_TRAVERSE_SHARED
 namespace cullproof::bvh_wide_detail {
 
-static_assert(sizeof(Aabb) == 6 * sizeof(float), "Aabb must be six packed floats");
 static_assert(sizeof(Visibility) == 1, "one byte per verdict");
 
-// A plane with its p-vertex selection hoisted: index of the coordinate among the box's six
-// floats (Aabb: min x, y, z, max x, y, z; BvhWideNode::box rows in the same order).
-struct SelPlane {
-  float nx, ny, nz, d;
-  int px, py, pz, qx, qy, qz;  // p-vertex and n-vertex coordinate indices
-};
-
-struct Prepared {
-  SelPlane p[6];
-  explicit Prepared(const Frustum& f) {
-    for (int i = 0; i < 6; ++i) {
-      const Plane& pl = f[i];
-      SelPlane& s = p[i];
-      s.nx = pl.n.x; s.ny = pl.n.y; s.nz = pl.n.z; s.d = pl.d;
-      s.px = pl.n.x > 0.0f ? 3 : 0; s.qx = 3 - s.px;
-      s.py = pl.n.y > 0.0f ? 4 : 1; s.qy = 5 - s.py;
-      s.pz = pl.n.z > 0.0f ? 5 : 2; s.qz = 7 - s.pz;
-    }
-  }
-};
-
-// Scalar test of one plane (root box, primitives of multi-primitive leaves), as bvh_traverse.cpp:
-// 0 outside, 1 intersecting, 2 inside the plane.
-inline int test_plane(const SelPlane& s, const float* b) noexcept {
-  const float pv = ((s.nx * b[s.px] + s.ny * b[s.py]) + s.nz * b[s.pz]) + s.d;
-  if (pv < 0.0f) return 0;
-  const float nv = ((s.nx * b[s.qx] + s.ny * b[s.qy]) + s.nz * b[s.qz]) + s.d;
-  return nv < 0.0f ? 1 : 2;
-}
+// The root box, and the primitives of multi-primitive leaves, get the scalar test of
+// bvh_traverse.cpp (bvh_planes.hpp).
+using bvh_detail::Prepared;
+using bvh_detail::SelPlane;
+using bvh_detail::test_plane;
 
 // The output, staged in a local buffer and appended to the VisibleSet when it fills and at the
 // end (one insert per kStage primitives instead of a push_back or an insert per lane). The
@@ -155,17 +132,9 @@ template <class Tree>
 void test_leaf(const Prepared& prep, const Tree& bvh, std::uint32_t first, std::uint32_t end, std::uint32_t mask,
                Sink& out, std::uint64_t& tests) {
   for (std::uint32_t k = first; k < end; ++k) {
-    const float* pb = &bvh.prim_boxes[k].min.x;
-    bool out_k = false, inter = false;
-    for (std::uint32_t m = mask; m != 0; m &= m - 1) {
-      const int i = __builtin_ctz(m);
-      ++tests;
-      const int r = test_plane(prep.p[i], pb);
-      if (r == 0) { out_k = true; break; }
-      if (r == 1) inter = true;
-    }
-    if (out_k) continue;
-    out.one(bvh.prim_order[k], inter ? Visibility::intersecting : Visibility::inside);
+    const int r = bvh_detail::test_masked(prep, &bvh.prim_boxes[k].min.x, mask, tests);
+    if (r == 0) continue;
+    out.one(bvh.prim_order[k], r == 1 ? Visibility::intersecting : Visibility::inside);
   }
 }
 
