@@ -7,8 +7,10 @@
 //
 // Why this kernel may use FMA and the plain one may not: the certified bound holds for any
 // evaluation order with or without fused multiply-adds (certified.cpp), so each plane value is
-// three MulAdds, v = fl(n_z z + fl(n_y y + fl(n_x x + d_out))) (fused where the target has FMA,
-// Highway's HWY_NATIVE_FMA; Mul then Add elsewhere). The plain batch must give pn_vertex's
+// three fused multiply-adds, v = fl(n_z z + fl(n_y y + fl(n_x x + d_out))). Where the dispatched
+// target has no FMA (Highway's HWY_NATIVE_FMA: SSE2-SSE4 and the scalar fallbacks) the volumes go
+// through the same operations one by one with std::fma (correctly rounded, slow), so the
+// verdicts are the same on every machine (the corpus replays them). The plain batch must give pn_vertex's
 // verdicts bit for bit, which rules FMA out for it; it is bound by its 18 loads per vector
 // anyway, not by arithmetic (measured: the plain kernel with MulAdd, 0.433 vs 0.420 ns per box
 // in L2). So the verdicts here are those of the scalar certified tests except
@@ -386,12 +388,69 @@ bool put_covering_pair_first(CertPlane* p, int count) {
   return false;
 }
 
+// The kernels' operations for one volume, with std::fma: the batch's verdicts where the SIMD
+// target has no fused multiply-add (and the reference the tests compare the kernels with).
+float plane3_fma(const CertifiedPlane& p, float d, float x, float y, float z) {
+  return std::fma(p.nz, z, std::fma(p.ny, y, std::fma(p.nx, x, d)));
+}
+
+Visibility box_fma(const CertifiedFrustum& f, const Aabb& b) {
+  const std::uint32_t mb = std::max({abs_bits(b.min.x), abs_bits(b.min.y), abs_bits(b.min.z), abs_bits(b.max.x),
+                                     abs_bits(b.max.y), abs_bits(b.max.z)});
+  if (mb > abs_bits(f.m_safe)) return certified_pn_vertex(f, b);  // the kernels hand these over
+  float m;
+  std::memcpy(&m, &mb, sizeof m);
+  const float t = f.t_box * m;
+  bool outside = false, inside = true;
+  for (int i = 0; i < f.active_count; ++i) {
+    const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
+    const glm::vec3 pv(p.nx >= 0 ? b.max.x : b.min.x, p.ny >= 0 ? b.max.y : b.min.y, p.nz >= 0 ? b.max.z : b.min.z);
+    const glm::vec3 nv(p.nx >= 0 ? b.min.x : b.max.x, p.ny >= 0 ? b.min.y : b.max.y, p.nz >= 0 ? b.min.z : b.max.z);
+    outside = outside || plane3_fma(p, p.d_out, pv.x, pv.y, pv.z) < -t;
+    inside = inside && plane3_fma(p, p.d_in, nv.x, nv.y, nv.z) >= t;
+  }
+  return outside ? Visibility::outside : inside ? Visibility::inside : Visibility::intersecting;
+}
+
+Visibility sphere_fma(const CertifiedFrustum& f, const Sphere& s) {
+  const glm::vec3& c = s.center;
+  const float m = std::max(std::abs(c.x), std::max(std::abs(c.y), std::abs(c.z))) + s.radius;
+  if (abs_bits(m) > abs_bits(f.m_safe)) return certified_sphere(f, s);
+  const float t = f.t_sphere * m;
+  bool outside = false, inside = true;
+  for (int i = 0; i < f.active_count; ++i) {
+    const CertifiedPlane& p = f.fast_sphere[static_cast<std::size_t>(i)];
+    outside = outside || std::fma(s.radius, p.norm, plane3_fma(p, p.d_out, c.x, c.y, c.z)) < -t;
+    inside = inside && std::fma(-s.radius, p.norm, plane3_fma(p, p.d_in, c.x, c.y, c.z)) >= t;
+  }
+  return outside ? Visibility::outside : inside ? Visibility::inside : Visibility::intersecting;
+}
+
+// Every volume through `one` (no SIMD FMA on this machine).
+template <class One>
+void one_by_one(std::size_t count, std::uint64_t* visible, std::uint64_t* inside, One&& one) {
+  for (std::size_t w = 0; w < bitset_words(count); ++w) {
+    std::uint64_t vis = 0, ins = 0;
+    for (std::size_t j = 0; j < 64 && w * 64 + j < count; ++j) {
+      const Visibility v = one(w * 64 + j);
+      vis |= std::uint64_t{v != Visibility::outside} << j;
+      ins |= std::uint64_t{v == Visibility::inside} << j;
+    }
+    visible[w] = vis;
+    if (inside) inside[w] = ins;
+  }
+}
+
 struct Padded {  // the tail's copy, padded with zeros (a point box / sphere at the origin)
   float v[6][64];
 };
 
 void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, std::uint64_t* inside) {
   if (f.empty) return clear(bitset_words(b.count), visible, inside);
+  if (!certified_batch_uses_fma())
+    return one_by_one(b.count, visible, inside, [&](std::size_t i) {
+      return box_fma(f, Aabb{glm::vec3(b.min_x[i], b.min_y[i], b.min_z[i]), glm::vec3(b.max_x[i], b.max_y[i], b.max_z[i])});
+    });
   auto prepare = [&](const AabbSoa& s, CertPlane (&planes)[6]) {
     for (int i = 0; i < f.active_count; ++i) {
       const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
@@ -441,6 +500,10 @@ void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, 
 
 void spheres(const CertifiedFrustum& f, const SphereSoa& s, std::uint64_t* visible, std::uint64_t* inside) {
   if (f.empty) return clear(bitset_words(s.count), visible, inside);
+  if (!certified_batch_uses_fma())
+    return one_by_one(s.count, visible, inside, [&](std::size_t i) {
+      return sphere_fma(f, Sphere{glm::vec3(s.x[i], s.y[i], s.z[i]), s.radius[i]});
+    });
   CertPlane planes[6];
   for (int i = 0; i < f.active_count; ++i) {
     const CertifiedPlane& p = f.fast_sphere[static_cast<std::size_t>(i)];

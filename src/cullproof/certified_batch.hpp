@@ -1,7 +1,7 @@
 // Certified conservative SIMD batch culling (issue 7): structure-of-arrays AABBs and spheres,
 // Highway runtime dispatch (library cullproof::simd). The certified fast path of
-// certified_pn_vertex / certified_sphere, evaluated with fused multiply-adds where the target has
-// them (the certified bound allows it): the verdicts are those of the scalar functions except
+// certified_pn_vertex / certified_sphere, evaluated with fused multiply-adds (the certified bound
+// allows it; the same verdicts on every machine): the verdicts are those of the scalar functions except
 // within the rounding margin, where either may say `intersecting`; both are certified. Volumes
 // large enough to risk overflow are handed to the scalar functions.
 #pragma once
@@ -22,7 +22,8 @@ void certified_cull_aabbs_bitset(const CertifiedFrustum& f, const AabbSoa& boxes
 void certified_cull_spheres_bitset(const CertifiedFrustum& f, const SphereSoa& spheres, std::uint64_t* visible,
                                    std::uint64_t* inside = nullptr);
 
-/// Whether the dispatched SIMD target evaluates the batch kernels' multiply-adds fused (FMA).
+/// Whether the dispatched SIMD target has fused multiply-adds. Without them the batches run
+/// the same operations volume by volume with std::fma (same verdicts, slower).
 bool certified_batch_uses_fma();
 
 }  // namespace cullproof

@@ -8,6 +8,7 @@
 #include "cullproof/methods.hpp"
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 #include <glm/ext/matrix_transform.hpp>
 
 #include <algorithm>
@@ -98,10 +99,9 @@ TEST(Certified, HugeCoordinatesNeverOverflowIntoAVerdict) {
 }
 
 // A scalar model of the SIMD kernels' operations (src/certified/batch_certified.cpp): the fast
-// path's scaled planes, M, T = fl(t M) and plane values as three multiply-adds, fused when the
-// dispatched target fuses them (Highway's MulAdd is Mul then Add elsewhere; this file is built
-// with -ffp-contract=off, so a * b + c rounds twice here).
-float mul_add(float a, float b, float c) { return certified_batch_uses_fma() ? std::fma(a, b, c) : a * b + c; }
+// path's scaled planes, M, T = fl(t M) and plane values as three fused multiply-adds (the batch
+// fuses them on every target: in SIMD where the target has FMA, volume by volume otherwise).
+float mul_add(float a, float b, float c) { return std::fma(a, b, c); }
 float plane3(const CertifiedPlane& p, float d, float x, float y, float z) {
   return mul_add(p.nz, z, mul_add(p.ny, y, mul_add(p.nx, x, d)));
 }
@@ -257,7 +257,12 @@ std::vector<std::pair<CertifiedFrustum, BatchData>> batch_cases() {
 bool bit(const std::vector<std::uint64_t>& v, std::size_t i) { return (v[i / 64] >> (i % 64)) & 1u; }
 
 TEST(CertifiedBatch, EqualsItsScalarModelBitForBit) {
-  for (const auto& [f, x] : batch_cases()) {
+  const auto cases = batch_cases();
+  // Every SIMD target this machine runs (without FMA: the volume-by-volume path).
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) {
+  hwy::SetSupportedTargetsForTest(target);
+  SCOPED_TRACE(hwy::TargetName(target));
+  for (const auto& [f, x] : cases) {
     std::vector<std::uint64_t> vis(bitset_words(x.n)), ins(bitset_words(x.n)), svis(bitset_words(x.n)),
         sins(bitset_words(x.n)), vis_only(bitset_words(x.n));
     certified_cull_aabbs_bitset(f, x.boxes(), vis.data(), ins.data());
@@ -278,6 +283,8 @@ TEST(CertifiedBatch, EqualsItsScalarModelBitForBit) {
     EXPECT_GT(outside, 50);  // the data exercises every verdict
     EXPECT_GT(inside, 10);
   }
+  }
+  hwy::SetSupportedTargetsForTest(0);
 }
 
 // The margin matters on this data: a kernel comparing with 0 instead of -T / T would differ.
