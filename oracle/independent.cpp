@@ -13,6 +13,8 @@
 
 #include "cullproof/oracle.hpp"
 
+#include "exact_input.hpp"
+
 #include <CGAL/Gmpq.h>
 #include <CGAL/Gmpz.h>
 
@@ -133,6 +135,19 @@ bool polytope_nonempty(const std::vector<std::array<Z, 4>>& rows) {
   return false;
 }
 
+// The planes with a non-zero normal into `live`; false when a zero-normal plane contains nothing
+// (d < 0: every volume is outside). A zero-normal plane with d >= 0 contains all space.
+bool live_planes(const std::array<Row, 6>& planes, std::vector<const Row*>& live) {
+  for (const Row& p : planes) {
+    if (zero_normal(p)) {
+      if (p[0] < 0) return false;
+      continue;
+    }
+    live.push_back(&p);
+  }
+  return true;
+}
+
 Visibility independent_box(const std::array<Row, 6>& planes, const Volume& v) {
   // The box as c + Σ t_i e_i.
   std::array<Q, 3> c;
@@ -152,13 +167,7 @@ Visibility independent_box(const std::array<Row, 6>& planes, const Volume& v) {
       for (int k = 0; k < 3; ++k) e[i][k] = rat(o.half[i]) * rat(o.axes[i][k]);
   }
   std::vector<const Row*> live;
-  for (const Row& p : planes) {
-    if (zero_normal(p)) {
-      if (p[0] < 0) return Visibility::outside;
-      continue;
-    }
-    live.push_back(&p);
-  }
+  if (!live_planes(planes, live)) return Visibility::outside;
   // Containment: all 8 corners in every plane.
   bool inside = true;
   for (int s = 0; s < 8 && inside; ++s) {
@@ -219,13 +228,7 @@ Visibility independent_sphere(const std::array<Row, 6>& planes, const Sphere& s)
   const std::array<Q, 3> c{rat(s.center.x), rat(s.center.y), rat(s.center.z)};
   const Q r = rat(s.radius), r2 = r * r;
   std::vector<const Row*> live;
-  for (const Row& p : planes) {
-    if (zero_normal(p)) {
-      if (p[0] < 0) return Visibility::outside;
-      continue;
-    }
-    live.push_back(&p);
-  }
+  if (!live_planes(planes, live)) return Visibility::outside;
   bool inside = true, centre_in = true;
   for (const Row* p : live) {
     const Q sv = eval(*p, c);
@@ -268,22 +271,10 @@ Visibility independent_sphere(const std::array<Row, 6>& planes, const Sphere& s)
   return Visibility::outside;
 }
 
-void validate_case(const CaseFrustum& f, const Volume& v) {
-  if (f.matrix) {
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r)
-        if (!std::isfinite((*f.matrix)[c][r]))
-          throw ValidationError("frustum.matrix[" + std::to_string(4 * c + r) + "]: not finite");
-  } else {
-    validate(f.planes, "frustum");
-  }
-  validate(v, "volume");
-}
-
 }  // namespace
 
 Visibility classify_independent(const CaseFrustum& f, const Volume& v) {
-  validate_case(f, v);
+  detail::validate_case(f, v);
   const auto planes = planes_of(f);
   if (const auto* s = std::get_if<Sphere>(&v)) return independent_sphere(planes, *s);
   return independent_box(planes, v);
