@@ -388,6 +388,12 @@ bool put_covering_pair_first(CertPlane* p, int count) {
   return false;
 }
 
+// M of a box as the kernels compute it: the largest |coordinate|, as bits (NaN above all).
+std::uint32_t magnitude_bits(const Aabb& b) noexcept {
+  return std::max({abs_bits(b.min.x), abs_bits(b.min.y), abs_bits(b.min.z), abs_bits(b.max.x), abs_bits(b.max.y),
+                   abs_bits(b.max.z)});
+}
+
 // The kernels' operations for one volume, with std::fma: the batch's verdicts where the SIMD
 // target has no fused multiply-add (and the reference the tests compare the kernels with).
 float plane3_fma(const CertifiedPlane& p, float d, float x, float y, float z) {
@@ -395,8 +401,7 @@ float plane3_fma(const CertifiedPlane& p, float d, float x, float y, float z) {
 }
 
 Visibility box_fma(const CertifiedFrustum& f, const Aabb& b) {
-  const std::uint32_t mb = std::max({abs_bits(b.min.x), abs_bits(b.min.y), abs_bits(b.min.z), abs_bits(b.max.x),
-                                     abs_bits(b.max.y), abs_bits(b.max.z)});
+  const std::uint32_t mb = magnitude_bits(b);
   if (mb > abs_bits(f.m_safe)) return certified_pn_vertex(f, b);  // the kernels hand these over
   float m;
   std::memcpy(&m, &mb, sizeof m);
@@ -451,7 +456,9 @@ void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, 
     return one_by_one(b.count, visible, inside, [&](std::size_t i) {
       return box_fma(f, Aabb{glm::vec3(b.min_x[i], b.min_y[i], b.min_z[i]), glm::vec3(b.max_x[i], b.max_y[i], b.max_z[i])});
     });
-  auto prepare = [&](const AabbSoa& s, CertPlane (&planes)[6]) {
+  // The full words of `s` (the boxes, or the padded tail): planes prepared once per array set.
+  auto run = [&](const AabbSoa& s, std::size_t full, std::uint64_t* vis, std::uint64_t* ins) {
+    CertPlane planes[6];
     for (int i = 0; i < f.active_count; ++i) {
       const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
       // Hoisted per plane: the p-vertex reads max where n' >= 0 (certified_pn_vertex's choice).
@@ -460,29 +467,19 @@ void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, 
                             p.nz >= 0.0f ? s.max_z : s.min_z, p.nx >= 0.0f ? s.min_x : s.max_x,
                             p.ny >= 0.0f ? s.min_y : s.max_y, p.nz >= 0.0f ? s.min_z : s.max_z};
     }
-    return put_covering_pair_first(planes, f.active_count);
-  };
-  auto launch = [&](const AabbSoa& s, std::size_t w0, std::size_t w1, std::uint64_t* vis, std::uint64_t* ins,
-                    std::uint8_t* flags) {
-    CertPlane planes[6];
-    const bool covered = prepare(s, planes);
+    const bool covered = put_covering_pair_first(planes, f.active_count);
     const certified_batch_detail::Arrays arrays{{s.min_x, s.min_y, s.min_z}, {s.max_x, s.max_y, s.max_z}};
-    HWY_DYNAMIC_DISPATCH(CertAabbKernel)(planes, f.active_count, covered, arrays, f.t_box, f.m_safe, w0, w1,
-                                         s.count / 64, vis, ins, flags);
-  };
-  auto unsafe_lane = [&](const AabbSoa& s, std::size_t i) {
-    const std::uint32_t m = std::max({abs_bits(s.min_x[i]), abs_bits(s.min_y[i]), abs_bits(s.min_z[i]),
-                                      abs_bits(s.max_x[i]), abs_bits(s.max_y[i]), abs_bits(s.max_z[i])});
-    return m > abs_bits(f.m_safe);
-  };
-  auto scalar = [&](const AabbSoa& s, std::size_t i) {
-    return certified_pn_vertex(f, Aabb{glm::vec3(s.min_x[i], s.min_y[i], s.min_z[i]),
-                                       glm::vec3(s.max_x[i], s.max_y[i], s.max_z[i])});
-  };
-  auto run = [&](const AabbSoa& s, std::size_t full, std::uint64_t* vis, std::uint64_t* ins) {
+    auto box = [&](std::size_t i) {
+      return Aabb{glm::vec3(s.min_x[i], s.min_y[i], s.min_z[i]), glm::vec3(s.max_x[i], s.max_y[i], s.max_z[i])};
+    };
     run_full_words(
-        full, vis, ins, [&](std::size_t w0, std::size_t w1, std::uint64_t* v, std::uint64_t* n, std::uint8_t* fl) { launch(s, w0, w1, v, n, fl); },
-        [&](std::size_t i) { return unsafe_lane(s, i); }, [&](std::size_t i) { return scalar(s, i); });
+        full, vis, ins,
+        [&](std::size_t w0, std::size_t w1, std::uint64_t* v, std::uint64_t* n, std::uint8_t* fl) {
+          HWY_DYNAMIC_DISPATCH(CertAabbKernel)(planes, f.active_count, covered, arrays, f.t_box, f.m_safe, w0, w1,
+                                               s.count / 64, v, n, fl);
+        },
+        [&](std::size_t i) { return magnitude_bits(box(i)) > abs_bits(f.m_safe); },
+        [&](std::size_t i) { return certified_pn_vertex(f, box(i)); });
   };
   const std::size_t full = b.count / 64, rest = b.count - full * 64;
   run(b, full, visible, inside);
