@@ -269,9 +269,9 @@ HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, s
   // Bits 3 (k - 2) + j: plane k's p-vertex reads plane 1's array on axis j (side_plane).
   unsigned other = 0;
   for (int k = 2; k < 6; ++k) {
-    const float* const pk[3] = {planes[k].px, planes[k].py, planes[k].pz};
-    const float* const p0[3] = {planes[0].px, planes[0].py, planes[0].pz};
-    for (int j = 0; j < 3; ++j) other |= (pk[j] == p0[j] ? 0u : 1u) << (3 * (k - 2) + j);
+    const CertPlane &pk = planes[k], &p0 = planes[0];
+    const unsigned e = (pk.px == p0.px ? 0u : 1u) | (pk.py == p0.py ? 0u : 2u) | (pk.pz == p0.pz ? 0u : 4u);
+    other |= e << (3 * (k - 2));
   }
   for (std::size_t w = w_begin; w < w_end; ++w) {
     std::uint64_t vis = 0, ins = 0;
