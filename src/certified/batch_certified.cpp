@@ -205,8 +205,8 @@ HWY_INLINE hn::Vec<D> covering_pair(D d, DU du, const PV& pv, const CertPlane* p
   using V = hn::Vec<D>;
   const float* const c0[3] = {planes[0].px, planes[0].py, planes[0].pz};
   const float* const c1[3] = {planes[1].px, planes[1].py, planes[1].pz};
-  const V* const n0[3] = {pv.nx, pv.ny, pv.nz};
 #if CULLPROOF_CERT_AVX512
+  const V* const n0[3] = {pv.nx, pv.ny, pv.nz};
   V a0 = pv.dout[0], a1 = pv.dout[1];
   hn::Vec<DU> mb;
   for (int j = 0; j < 3; ++j) {
@@ -231,7 +231,6 @@ HWY_INLINE hn::Vec<D> covering_pair(D d, DU du, const PV& pv, const CertPlane* p
   const V lo = hn::Min(hn::Min(p[1 - kx][0], p[1 - ky][1]), p[1 - kz][2]);
   m = hn::Max(hi, hn::Neg(lo));
   (void)du;
-  (void)n0;
   (void)uv;
   return hn::Min(plane3(pv.nx[0], pv.ny[0], pv.nz[0], pv.dout[0], p[0][0], p[0][1], p[0][2]),
                  plane3(pv.nx[1], pv.ny[1], pv.nz[1], pv.dout[1], p[1][0], p[1][1], p[1][2]));
@@ -266,6 +265,7 @@ HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, s
   const PlaneVecs<decltype(d)> pv(d, planes, 6);
   const V(&nx)[6] = pv.nx, (&ny)[6] = pv.ny, (&nz)[6] = pv.nz, (&dout)[6] = pv.dout, (&din)[6] = pv.din;
   const V ntv = hn::Set(d, -t), msafe = hn::Set(d, m_safe);
+#if CULLPROOF_CERT_AVX512
   // Bits 3 (k - 2) + j: plane k's p-vertex reads plane 1's array on axis j (side_plane).
   unsigned other = 0;
   for (int k = 2; k < 6; ++k) {
@@ -273,6 +273,7 @@ HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, s
     const unsigned e = (pk.px == p0.px ? 0u : 1u) | (pk.py == p0.py ? 0u : 2u) | (pk.pz == p0.pz ? 0u : 4u);
     other |= e << (3 * (k - 2));
   }
+#endif
   for (std::size_t w = w_begin; w < w_end; ++w) {
     std::uint64_t vis = 0, ins = 0;
     VU mword = hn::Zero(du);
