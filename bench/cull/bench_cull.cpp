@@ -454,13 +454,16 @@ Frustum narrow_frustum() {
 
 // view: 0 street (wide), 1 everything visible, 2 narrow (few visible: traversal cost alone).
 // kKind: 0 plain, 1 masked, 2 coherent (binary BVH), 3 / 4 masked on the 4- / 8-wide BVH (a
-// visited node there is a child lane tested, see cull_bvh4_masked; compare the absolute time too).
+// visited node there is a child lane tested, see cull_bvh4_masked; compare the absolute time too),
+// 5 / 6 the same with the visible set written as runs (VisibleRuns) instead of indices.
 void BM_bvh(benchmark::State& s, int kKind, int view) {
   const Scene& x = scene_100k();
   const Frustum f = view == 1 ? x.all_visible : view == 2 ? narrow_frustum() : street_frustum();
   VisibleSet out;
   out.indices.reserve(x.boxes.size());
   out.verdicts.reserve(x.boxes.size());
+  VisibleRuns runs;
+  runs.runs.reserve(x.boxes.size());
   BvhCoherency cache;
   CullStats st;
   if (kKind == 2) cull_bvh_coherent(f, x.bvh, cache, out, st);  // warm: a still camera
@@ -471,10 +474,14 @@ void BM_bvh(benchmark::State& s, int kKind, int view) {
     if (kKind == 2) cull_bvh_coherent(f, x.bvh, cache, out, total);
     if (kKind == 3) cull_bvh4_masked(f, x.bvh4, out, total);
     if (kKind == 4) cull_bvh8_masked(f, x.bvh8, out, total);
+    if (kKind == 5) cull_bvh4_masked(f, x.bvh4, runs, total);
+    if (kKind == 6) cull_bvh8_masked(f, x.bvh8, runs, total);
     benchmark::DoNotOptimize(out.indices.data());
+    benchmark::DoNotOptimize(runs.runs.data());
   }
   const double it = double(s.iterations());
-  s.counters["visible"] = double(out.indices.size());
+  s.counters["visible"] = double(kKind >= 5 ? runs.count() : out.indices.size());
+  if (kKind >= 5) s.counters["runs"] = double(runs.runs.size());
   s.counters["nodes_visited"] = double(total.nodes_visited) / it;
   s.counters["plane_tests"] = double(total.plane_tests) / it;
   s.counters["ns_per_node"] = benchmark::Counter(double(total.nodes_visited), benchmark::Counter::kIsRate |
@@ -494,6 +501,12 @@ BENCHMARK_CAPTURE(BM_bvh, wide4_masked_narrow, 3, 2)->Unit(benchmark::kMicroseco
 BENCHMARK_CAPTURE(BM_bvh, wide8_masked_street, 4, 0)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
 BENCHMARK_CAPTURE(BM_bvh, wide8_masked_all_visible, 4, 1)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
 BENCHMARK_CAPTURE(BM_bvh, wide8_masked_narrow, 4, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide4_runs_street, 5, 0)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide4_runs_all_visible, 5, 1)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide4_runs_narrow, 5, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide8_runs_street, 6, 0)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide8_runs_all_visible, 6, 1)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
+BENCHMARK_CAPTURE(BM_bvh, wide8_runs_narrow, 6, 2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("min", min_of);
 
 // The flat batch scan of the same 100k leaves (bitset, and indices like the traversal output).
 void BM_flat_batch_100k_bitset(benchmark::State& s, bool all_visible) {

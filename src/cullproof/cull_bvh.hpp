@@ -53,6 +53,36 @@ struct VisibleSet {
   void clear() noexcept { indices.clear(); verdicts.clear(); }
 };
 
+/// The visible primitives as runs of leaf order: run r covers the primitives at leaf positions
+/// first .. end - 1, i.e. the input indices prim_order[first .. end) of the BVH culled, all with
+/// one verdict. The runs are in leaf order, non-empty and maximal: a run never ends where the
+/// next one begins with the same verdict. A subtree accepted whole (plane mask 0) is one run
+/// however many primitives it holds; a culler that draws contiguous ranges (primitives stored
+/// in leaf order) can use them without an index per primitive. Cleared by the traversals.
+struct VisibleRun {
+  std::uint32_t first = 0;
+  std::uint32_t end = 0;
+  Visibility verdict = Visibility::outside;
+  bool operator==(const VisibleRun& o) const noexcept {
+    return first == o.first && end == o.end && verdict == o.verdict;
+  }
+};
+struct VisibleRuns {
+  std::vector<VisibleRun> runs;
+  /// Working storage of the traversals, not part of the result: one run per primitive of the
+  /// largest BVH culled into this object (12 bytes each), kept between calls so that culling
+  /// frame after frame into the same object allocates nothing.
+  std::vector<VisibleRun> scratch;
+  void clear() noexcept { runs.clear(); }
+  /// The number of primitives the runs cover.
+  std::uint64_t count() const noexcept;
+};
+
+/// The same visible set as indices and verdicts (VisibleSet, leaf order): prim_order[k] for every
+/// k of every run, in order. prim_order is the culled BVH's (Bvh::prim_order, BvhWide::prim_order).
+/// Throws std::out_of_range naming the run if a run is empty or reaches past prim_order.
+void expand_runs(const VisibleRuns& runs, const std::vector<std::uint32_t>& prim_order, VisibleSet& out);
+
 /// Plain hierarchical culling (Cesium "Basic Hierarchical Culling"): every visited node gets the
 /// six-plane n/p-vertex test; outside prunes, inside accepts the subtree without tests.
 void cull_bvh_plain(const Frustum& frustum, const Bvh& bvh, VisibleSet& out, CullStats& stats);
@@ -140,6 +170,14 @@ Bvh8 build_bvh8(const Bvh& bvh);
 /// of the two on bench_cull (about 30% fewer nodes popped for as many lanes tested).
 void cull_bvh4_masked(const Frustum& frustum, const Bvh4& bvh, VisibleSet& out, CullStats& stats);
 void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleSet& out, CullStats& stats);
+
+/// The same traversals with the visible set written as runs of leaf order (VisibleRuns): the
+/// same tests, verdicts and counters; expand_runs(out, bvh.prim_order, set) gives exactly the
+/// VisibleSet of the overloads above. An accepted subtree costs one run instead of one index and
+/// one verdict per primitive (bench_cull BM_bvh wide8_runs_street: 54,630 visible primitives in
+/// 1,627 runs; 8-wide, 15-20% faster than the index output there).
+void cull_bvh4_masked(const Frustum& frustum, const Bvh4& bvh, VisibleRuns& out, CullStats& stats);
+void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleRuns& out, CullStats& stats);
 
 /// The Highway target the wide traversals dispatch to on this machine (e.g. "AVX3").
 const char* bvh_wide_simd_target();

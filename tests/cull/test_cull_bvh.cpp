@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <map>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -140,6 +141,8 @@ template <>
 Bvh8 build_wide<8>(const Bvh& bin) { return build_bvh8(bin); }
 void cull_wide(const Frustum& f, const Bvh4& bvh, VisibleSet& out, CullStats& st) { cull_bvh4_masked(f, bvh, out, st); }
 void cull_wide(const Frustum& f, const Bvh8& bvh, VisibleSet& out, CullStats& st) { cull_bvh8_masked(f, bvh, out, st); }
+void cull_wide(const Frustum& f, const Bvh4& bvh, VisibleRuns& out, CullStats& st) { cull_bvh4_masked(f, bvh, out, st); }
+void cull_wide(const Frustum& f, const Bvh8& bvh, VisibleRuns& out, CullStats& st) { cull_bvh8_masked(f, bvh, out, st); }
 
 template <class T>
 class CullBvhWide : public ::testing::Test {};
@@ -163,6 +166,28 @@ TYPED_TEST_SUITE(CullBvhWide, Widths, WidthName);
                                            << to_string(want.verdicts[k]);
   }
   return ::testing::AssertionSuccess();
+}
+
+// The runs are well formed (non-empty, in leaf order, within n_prims primitives, maximal: no run
+// ends where the next begins with the same verdict, no verdict `outside`) and expand to `want`.
+::testing::AssertionResult runs_are(const VisibleSet& want, const VisibleRuns& runs,
+                                    const std::vector<std::uint32_t>& prim_order) {
+  for (std::size_t i = 0; i < runs.runs.size(); ++i) {
+    const VisibleRun& r = runs.runs[i];
+    if (r.first >= r.end || r.end > prim_order.size() || r.verdict == V::outside)
+      return ::testing::AssertionFailure() << "run " << i << " [" << r.first << ", " << r.end << ") "
+                                           << to_string(r.verdict) << " is empty, too long or outside";
+    if (i > 0) {
+      const VisibleRun& p = runs.runs[i - 1];
+      if (r.first < p.end) return ::testing::AssertionFailure() << "run " << i << " begins before run " << i - 1 << " ends";
+      if (r.first == p.end && r.verdict == p.verdict)
+        return ::testing::AssertionFailure() << "runs " << i - 1 << " and " << i << " are not merged";
+    }
+  }
+  VisibleSet got;
+  expand_runs(runs, prim_order, got);
+  if (runs.count() != got.indices.size()) return ::testing::AssertionFailure() << "count() " << runs.count();
+  return same_output(want, got);
 }
 
 template <int W>
@@ -255,6 +280,11 @@ TYPED_TEST(CullBvhWide, EmptySingleAndRootLeaf) {
   EXPECT_TRUE(out.indices.empty() && out.verdicts.empty());
   EXPECT_EQ(st.nodes_visited, 0u);
   EXPECT_EQ(st.plane_tests, 0u);
+  VisibleRuns runs;
+  runs.runs.push_back(VisibleRun{0, 1, V::inside});  // cleared too
+  cull_wide(test::sym90(), empty, runs, st);
+  EXPECT_TRUE(runs.runs.empty());
+  EXPECT_EQ(st.nodes_visited, 0u);
   // One primitive: inside, straddling, touching from outside (intersecting), touching from
   // inside (inside), outside, behind.
   for (const Aabb& b : {test::inside_box(), test::straddle_right_box(), test::touch_near_outside_box(),
@@ -266,6 +296,9 @@ TYPED_TEST(CullBvhWide, EmptySingleAndRootLeaf) {
     cull_bvh_masked(test::sym90(), bin, want, sw);
     cull_wide(test::sym90(), wide, out, st);
     EXPECT_TRUE(same_output(want, out));
+    CullStats sr;
+    cull_wide(test::sym90(), wide, runs, sr);
+    EXPECT_TRUE(runs_are(want, runs, wide.prim_order));
     const V v = pn_vertex(test::sym90(), b);
     ASSERT_EQ(out.indices.size(), v == V::outside ? 0u : 1u);
     if (v != V::outside) {
@@ -284,6 +317,8 @@ TYPED_TEST(CullBvhWide, EmptySingleAndRootLeaf) {
   cull_wide(test::sym90(), wide, out, st);
   EXPECT_TRUE(same_output(want, out));
   EXPECT_EQ(as_map(out), flat(test::sym90(), few));
+  cull_wide(test::sym90(), wide, runs, st);
+  EXPECT_TRUE(runs_are(want, runs, wide.prim_order));
 }
 
 // Boxes on an integer grid: against ortho() (planes x, y = +-1, z = -1, -10) and sym90() many
@@ -338,7 +373,7 @@ TYPED_TEST(CullBvhWide, SameOutputAsTheBinaryTraversalsOnEveryTarget) {
   std::string names;
   for (const std::int64_t target : targets) names += std::string(" ") + hwy::TargetName(target);
   this->RecordProperty("targets", names);
-  std::size_t max_visible = 0;
+  std::size_t max_visible = 0, max_runs = 0;
   for (const std::int64_t target : targets) {
     hwy::SetSupportedTargetsForTest(target);
     EXPECT_EQ(std::string(bvh_wide_simd_target()), hwy::TargetName(target));
@@ -358,6 +393,14 @@ TYPED_TEST(CullBvhWide, SameOutputAsTheBinaryTraversalsOnEveryTarget) {
           EXPECT_TRUE(same_output(masked, w));
           EXPECT_EQ(as_map(w), flat(f, scenes[si])) << "differs from the flat pn_vertex";
           max_visible = std::max(max_visible, w.indices.size());
+          // The run output: the same visible set, the same counters.
+          VisibleRuns runs;
+          CullStats sr;
+          cull_wide(f, wide, runs, sr);
+          EXPECT_TRUE(runs_are(plain, runs, wide.prim_order));
+          EXPECT_EQ(sr.nodes_visited, sw.nodes_visited);
+          EXPECT_EQ(sr.plane_tests, sw.plane_tests);
+          max_runs = std::max(max_runs, runs.runs.size());
           // Counters: every visited lane tests at least one plane, at most six; the primitives
           // of multi-primitive leaves at most six each.
           EXPECT_GE(sw.nodes_visited, 1u);
@@ -370,6 +413,66 @@ TYPED_TEST(CullBvhWide, SameOutputAsTheBinaryTraversalsOnEveryTarget) {
   }
   hwy::SetSupportedTargetsForTest(0);
   EXPECT_GT(max_visible, 2048u) << "the output stage was filled and flushed";
+  EXPECT_GT(max_runs, 256u) << "more runs than the run stage (256) holds: merged across flushes";
+}
+
+// Runs merge across lanes, nodes and stage flushes (the stage holds 256 runs): a row of 2000
+// boxes all inside is one run, all straddling one run, and alternately inside and straddling
+// 2000 runs.
+TYPED_TEST(CullBvhWide, RunsAreMaximalAcrossLanesNodesAndFlushes) {
+  constexpr int W = TypeParam::value;
+  // Box k: x in [2k, 2k + 1], y in [0, 1], z in [0, 0.9] (k even) or [0.25, 1.15] (k odd).
+  std::vector<Aabb> row;
+  for (int k = 0; k < 2000; ++k) {
+    const float z = k % 2 == 0 ? 0.0f : 0.25f;
+    row.push_back(Aabb{{2.0f * k, 0, z}, {2.0f * k + 1, 1, z + 0.9f}});
+  }
+  const Bvh bin = build_bvh(row);
+  const BvhWide<W> wide = build_wide<W>(bin);
+  Frustum f;
+  for (int i = 0; i < 6; ++i) f[i] = Plane{{0, 0, 0}, 1};  // all space
+  VisibleSet want;
+  VisibleRuns runs;
+  CullStats st;
+  const auto check = [&](std::size_t n_runs, const char* what) {
+    SCOPED_TRACE(what);
+    cull_bvh_plain(f, bin, want, st);
+    cull_wide(f, wide, runs, st);
+    ASSERT_TRUE(runs_are(want, runs, wide.prim_order));
+    EXPECT_EQ(want.indices.size(), row.size());
+    EXPECT_EQ(runs.runs.size(), n_runs);
+  };
+  f[kLeft] = Plane{{1, 0, 0}, 0.5f};  // x >= -0.5
+  check(1, "all inside");
+  EXPECT_EQ(runs.runs[0], (VisibleRun{0, 2000, V::inside}));
+  f[kTop] = Plane{{0, -1, 0}, 0.5f};  // y <= 0.5: every box straddles
+  check(1, "all straddling");
+  EXPECT_EQ(runs.runs[0], (VisibleRun{0, 2000, V::intersecting}));
+  f[kTop] = Plane{{0, 0, 0}, 1};
+  f[kFar] = Plane{{0, 0, -1}, 1.0f};  // z <= 1: even boxes inside, odd ones straddle
+  check(2000, "alternating");  // (leaf order is x order here)
+  for (std::size_t k = 0; k < runs.runs.size(); ++k)
+    EXPECT_EQ(runs.runs[k].verdict, wide.prim_order[k] % 2 == 0 ? V::inside : V::intersecting);
+}
+
+TEST(CullBvh, ExpandRunsRejectsAnEmptyOrOverlongRun) {
+  const std::vector<std::uint32_t> order = {4, 2, 0, 1, 3};
+  VisibleRuns runs;
+  runs.runs = {VisibleRun{0, 2, V::inside}, VisibleRun{3, 5, V::intersecting}};
+  VisibleSet out;
+  expand_runs(runs, order, out);
+  EXPECT_EQ(out.indices, (std::vector<std::uint32_t>{4, 2, 1, 3}));
+  EXPECT_EQ(out.verdicts, (std::vector<V>{V::inside, V::inside, V::intersecting, V::intersecting}));
+  EXPECT_EQ(runs.count(), 4u);
+  runs.runs.push_back(VisibleRun{5, 6, V::inside});
+  try {
+    expand_runs(runs, order, out);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::out_of_range& e) {
+    EXPECT_NE(std::string(e.what()).find("run 2 [5, 6)"), std::string::npos) << e.what();
+  }
+  runs.runs.back() = VisibleRun{3, 3, V::inside};
+  EXPECT_THROW(expand_runs(runs, order, out), std::out_of_range);
 }
 
 TYPED_TEST(CullBvhWide, CountersOnHandCases) {

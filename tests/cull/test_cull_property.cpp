@@ -196,13 +196,25 @@ RC_GTEST_PROP(CullProperty, MaskedTraversalNeverChangesAVerdict, ()) {
   VisibleSet wide4, wide8;
   CullStats s4, s8;
   cull_bvh4_masked(f, build_bvh4(bvh), wide4, s4);
-  cull_bvh8_masked(f, build_bvh8(bvh), wide8, s8);
+  const Bvh8 bvh8 = build_bvh8(bvh);
+  cull_bvh8_masked(f, bvh8, wide8, s8);
   RC_ASSERT(wide4.indices == plain.indices);
   RC_ASSERT(wide4.verdicts == plain.verdicts);
   RC_ASSERT(wide8.indices == plain.indices);
   RC_ASSERT(wide8.verdicts == plain.verdicts);
   RC_ASSERT(s4.nodes_visited >= 1u);
   RC_ASSERT(s8.nodes_visited >= 1u);
+  // Their run output expands to the same visible set.
+  VisibleRuns runs;
+  VisibleSet expanded;
+  CullStats s8r;
+  cull_bvh8_masked(f, bvh8, runs, s8r);
+  expand_runs(runs, bvh8.prim_order, expanded);
+  RC_ASSERT(expanded.indices == plain.indices);
+  RC_ASSERT(expanded.verdicts == plain.verdicts);
+  RC_ASSERT(s8r.nodes_visited == s8.nodes_visited);
+  for (std::size_t i = 1; i < runs.runs.size(); ++i)
+    RC_ASSERT(runs.runs[i].first != runs.runs[i - 1].end || runs.runs[i].verdict != runs.runs[i - 1].verdict);
   // And the flat test agrees.
   std::size_t visible = 0;
   for (const Aabb& b : boxes) visible += pn_vertex(f, b) != Visibility::outside;
