@@ -425,28 +425,27 @@ HWY_EXPORT(Bvh4MaskedRuns);
 HWY_EXPORT(Bvh8MaskedRuns);
 HWY_EXPORT(WideTargetImpl);
 
+namespace {
+// The entry points: clear the output, skip an empty tree, run the dispatched traversal `impl`.
+template <class Tree, class Out, class Impl>
+void run_wide(const Frustum& f, const Tree& bvh, Out& out, CullStats& stats, Impl* impl) {
+  out.clear();
+  if (bvh.root == kBvhWideEmpty) return;
+  impl(bvh_wide_detail::Prepared(f), bvh, out, stats);
+}
+}  // namespace
+
 void cull_bvh4_masked(const Frustum& f, const Bvh4& bvh, VisibleSet& out, CullStats& stats) {
-  out.clear();
-  if (bvh.root == kBvhWideEmpty) return;
-  HWY_DYNAMIC_DISPATCH(Bvh4Masked)(bvh_wide_detail::Prepared(f), bvh, out, stats);
+  run_wide(f, bvh, out, stats, HWY_DYNAMIC_DISPATCH(Bvh4Masked));
 }
-
 void cull_bvh8_masked(const Frustum& f, const Bvh8& bvh, VisibleSet& out, CullStats& stats) {
-  out.clear();
-  if (bvh.root == kBvhWideEmpty) return;
-  HWY_DYNAMIC_DISPATCH(Bvh8Masked)(bvh_wide_detail::Prepared(f), bvh, out, stats);
+  run_wide(f, bvh, out, stats, HWY_DYNAMIC_DISPATCH(Bvh8Masked));
 }
-
 void cull_bvh4_masked(const Frustum& f, const Bvh4& bvh, VisibleRuns& out, CullStats& stats) {
-  out.clear();
-  if (bvh.root == kBvhWideEmpty) return;
-  HWY_DYNAMIC_DISPATCH(Bvh4MaskedRuns)(bvh_wide_detail::Prepared(f), bvh, out, stats);
+  run_wide(f, bvh, out, stats, HWY_DYNAMIC_DISPATCH(Bvh4MaskedRuns));
 }
-
 void cull_bvh8_masked(const Frustum& f, const Bvh8& bvh, VisibleRuns& out, CullStats& stats) {
-  out.clear();
-  if (bvh.root == kBvhWideEmpty) return;
-  HWY_DYNAMIC_DISPATCH(Bvh8MaskedRuns)(bvh_wide_detail::Prepared(f), bvh, out, stats);
+  run_wide(f, bvh, out, stats, HWY_DYNAMIC_DISPATCH(Bvh8MaskedRuns));
 }
 
 std::uint64_t VisibleRuns::count() const noexcept {
