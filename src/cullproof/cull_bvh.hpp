@@ -69,10 +69,10 @@ struct VisibleRun {
 };
 struct VisibleRuns {
   std::vector<VisibleRun> runs;
-  /// Working storage of the traversals, not part of the result: one run per primitive of the
-  /// largest BVH culled into this object (12 bytes each), kept between calls so that culling
-  /// frame after frame into the same object allocates nothing.
-  std::vector<VisibleRun> scratch;
+  /// Working storage of the traversals, not part of the result: two words per primitive of the
+  /// largest BVH culled into this object, kept between calls so that culling frame after frame
+  /// into the same object allocates nothing.
+  std::vector<std::uint32_t> scratch;
   void clear() noexcept { runs.clear(); }
   /// The number of primitives the runs cover.
   std::uint64_t count() const noexcept;
