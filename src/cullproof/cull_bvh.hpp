@@ -175,7 +175,8 @@ void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleSet& out, 
 /// same tests, verdicts and counters; expand_runs(out, bvh.prim_order, set) gives exactly the
 /// VisibleSet of the overloads above. An accepted subtree costs one run instead of one index and
 /// one verdict per primitive (bench_cull BM_bvh wide8_runs_street: 54,630 visible primitives in
-/// 1,627 runs; 8-wide, 15-20% faster than the index output there).
+/// 1,627 runs; 8-wide, 15-20% faster than the index output there). Throws std::length_error
+/// for a BVH of 2^31 or more primitives.
 void cull_bvh4_masked(const Frustum& frustum, const Bvh4& bvh, VisibleRuns& out, CullStats& stats);
 void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleRuns& out, CullStats& stats);
 
