@@ -47,7 +47,7 @@ json volume_names(unsigned bits) {
 int cmd_methods(bool as_json) {
   if (as_json) {
     json out = json::array();
-    for (const Method& m : methods()) {
+    for (const Method& m : builtin_methods()) {
       out.push_back({{"name", m.name},
                      {"description", m.description},
                      {"source", m.source},
@@ -56,47 +56,43 @@ int cmd_methods(bool as_json) {
                      {"touching", m.touching},
                      {"tolerance", m.tolerance},
                      {"stateful", m.stateful},
-                     {"published", m.published}});
+                     {"three_way", m.three_way},
+                     {"batch", m.has_batch()},
+                     {"origin", std::string(to_string(m.origin))}});
     }
     std::cout << out.dump(2) << "\n";
     return 0;
   }
   std::printf("%-28s %-24s %-24s %s\n", "method", "claim", "volumes", "source");
-  for (const Method& m : methods()) {
+  for (const Method& m : builtin_methods()) {
     std::string vols;
     for (const auto& v : volume_names(m.volumes)) vols += (vols.empty() ? "" : ",") + v.get<std::string>();
-    std::printf("%-28s %-24s %-24s %s\n", m.name.c_str(), std::string(to_string(m.claim)).c_str(), vols.c_str(),
-                m.source.c_str());
+    const std::string claim = std::string(to_string(m.claim)) + (m.three_way ? "" : ", two-way");
+    std::printf("%-28s %-24s %-24s %s\n", m.name.c_str(), claim.c_str(), vols.c_str(), m.source.c_str());
     std::printf("%-28s %s\n", "", m.description.c_str());
   }
-  std::printf("%zu methods\n", methods().size());
+  std::printf("%zu methods\n", builtin_methods().size());
   return 0;
 }
 
 int cmd_classify(const std::vector<std::string>& files, const std::vector<std::string>& names, bool no_oracle) {
-  std::vector<const Method*> selected;
-  for (const std::string& n : names) {
-    const Method* m = find_method(n);
-    if (!m) {
-      std::string known;
-      for (const Method& k : methods()) known += (known.empty() ? "" : ", ") + k.name;
-      std::cerr << "cullproof classify: unknown method '" << n << "' (known: " << known << ")\n";
-      return 2;
-    }
-    selected.push_back(m);
+  std::vector<Method> selected;
+  try {
+    selected = builtin_methods(names);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "cullproof classify: " << e.what() << "\n";
+    return 2;
   }
-  if (names.empty())
-    for (const Method& m : methods()) selected.push_back(&m);
   for (const std::string& file : files) {
     const std::vector<Case> cases = read_cases(file);  // throws CaseError naming file/line/field
     for (const Case& c : cases) {
       validate(c.frustum.planes, "frustum");
       json line = {{"id", c.id}};
       json verdicts = json::object();
-      for (const Method* m : selected) {
-        if (!m->takes(c.volume)) continue;
-        const std::optional<Visibility> v = m->classify(c.frustum, c.volume);
-        if (v) verdicts[m->name] = std::string(to_string(*v));
+      for (const Method& m : selected) {
+        if (!m.takes(c.volume)) continue;
+        const std::optional<Visibility> v = m.classify(c.frustum, c.volume);
+        if (v) verdicts[m.name] = std::string(to_string(*v));
       }
       line["verdicts"] = verdicts;
 #ifdef CULLPROOF_HAVE_ORACLE
@@ -129,15 +125,21 @@ int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const s
         if (std::find(opt.distributions.begin(), opt.distributions.end(), x) == opt.distributions.end())
           opt.distributions.push_back(x);
   }
-  const VerifyResult r = run_verify(opt);
+  VerifyResult r;
+  try {
+    r = run_verify(opt);
+  } catch (const MethodFault& e) {
+    std::cerr << "cullproof verify: FAULT: " << e.what() << "\n";
+    return 3;
+  }
   print_tables(r, std::cout);
   if (!json_file.empty()) write_file_atomic(json_file, to_json(r).dump(2) + "\n");
   std::size_t written = 0;
   for (const auto& d : r.distributions)
     for (const auto& m : d.methods) written += m.corpus_written.size();
   if (opt.corpus) std::cout << "corpus: " << written << " new case(s) written under " << opt.corpus->string() << "\n";
-  if (r.own_claim_broken()) {
-    std::cout << "FAILED: a claim of one of cullproof's own methods was refuted (see REFUTED above)\n";
+  if (r.claim_broken()) {
+    std::cout << "FAILED: a claim of one of cullproof's own methods or of a user's method was refuted (see REFUTED above)\n";
     return 1;
   }
   return 0;
@@ -209,11 +211,11 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
       std::cout << "truth (oracle, now): " << to_string(t.truth) << "  distance " << t.distance << " ("
                 << oracle::to_string(t.distance_kind) << ")\n";
       std::cout << "verdicts now:\n";
-      for (const Method& m : methods()) {
+      for (const Method& m : builtin_methods()) {
         if (!m.takes(e.c.volume)) continue;
         const auto v = m.classify(e.c.frustum, e.c.volume);
         if (!v) continue;
-        const ErrorClass cls = error_class(*v, t.truth);
+        const ErrorClass cls = error_class(*v, t.truth, m.three_way);
         std::printf("  %-26s %-13s %s\n", m.name.c_str(), std::string(to_string(*v)).c_str(),
                     cls == ErrorClass::correct ? "" : to_string(cls));
       }

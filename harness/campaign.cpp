@@ -17,6 +17,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <unistd.h>
 
@@ -33,8 +34,9 @@ const char* to_string(ErrorClass e) noexcept {
   return "invalid";
 }
 
-ErrorClass error_class(Visibility verdict, Visibility truth) noexcept {
+ErrorClass error_class(Visibility verdict, Visibility truth, bool three_way) noexcept {
   if (verdict == truth) return ErrorClass::correct;
+  if (!three_way && verdict == Visibility::intersecting && truth == Visibility::inside) return ErrorClass::correct;
   if (verdict == Visibility::outside) return ErrorClass::false_reject;
   if (verdict == Visibility::inside) return ErrorClass::false_inside;
   return truth == Visibility::outside ? ErrorClass::false_intersect : ErrorClass::under_inside;
@@ -182,11 +184,31 @@ double error_distance(const CaseFrustum& f, const Volume& v, ErrorClass e, doubl
   return std::min(oracle_distance, backward_distance(f, v, e));
 }
 
-bool VerifyResult::own_claim_broken() const noexcept {
+bool VerifyResult::claim_broken() const noexcept {
   for (const auto& d : distributions)
     for (const auto& m : d.methods)
-      if (!m.published && m.refuted()) return true;
+      if (m.origin != Origin::published && m.refuted()) return true;
   return false;
+}
+
+Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v) {
+  if (!m.takes(v)) return std::nullopt;
+  Answer a;
+  try {
+    const std::unique_ptr<PreparedFrustum> p = m.prepare(f);
+    if (!p) return std::nullopt;
+    a = p->classify(v);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("method '" + m.name + "' threw: " + e.what());
+  } catch (...) {
+    throw std::runtime_error("method '" + m.name + "' threw something that is not a std::exception");
+  }
+  if (a && unsigned(*a) > unsigned(Visibility::inside))
+    throw std::runtime_error(fmt::format("method '{}' answered {}, which is not a verdict (0 outside, 1 intersecting, 2 inside)",
+                                         m.name, unsigned(*a)));
+  if (a && *a == Visibility::inside && !m.three_way)
+    throw std::runtime_error("method '" + m.name + "' answered inside, but it is two-way (visible or outside)");
+  return a;
 }
 
 std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept {
@@ -278,27 +300,8 @@ struct CaseOutcome {
   double scale = 0.0;                                          // gen::case_scale, erring cases only
 };
 
-std::vector<const Method*> select_methods(const std::vector<std::string>& names) {
-  std::vector<const Method*> out;
-  if (names.empty()) {
-    for (const Method& m : methods()) out.push_back(&m);
-    return out;
-  }
-  for (const std::string& n : names) {
-    const Method* m = find_method(n);
-    if (!m) {
-      std::string known;
-      for (const Method& k : methods()) known += (known.empty() ? "" : ", ") + k.name;
-      throw std::invalid_argument("unknown method '" + n + "' (known: " + known + ")");
-    }
-    out.push_back(m);
-  }
-  return out;
-}
-
 std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
-  if (!m.takes(c.volume)) return std::nullopt;
-  return m.classify(c.frustum, c.volume);
+  return checked_classify(m, c.frustum, c.volume);
 }
 
 // Shrinks a mismatch: the simplest case of the Shrinkable tree on which `m` still makes an error
@@ -316,7 +319,7 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
         validate(c.volume);
         const auto v = run_method(m, c);
         if (!v) continue;
-        if (error_class(*v, oracle::truth(c.frustum, c.volume)) != cls) continue;
+        if (error_class(*v, oracle::truth(c.frustum, c.volume), m.three_way) != cls) continue;
         // A claim violation must shrink to a claim violation (not to a rounding-level error).
         if (violation) {
           const oracle::Result r = oracle::classify(c.frustum, c.volume, oracle::Options{true, true, false});
@@ -345,9 +348,9 @@ std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint
 // Writes one corpus case; returns its id, or "" when the same geometry is already recorded.
 std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g, const Method& m, Visibility verdict,
                               gen::Distribution d, std::uint64_t seed, std::uint64_t index,
-                              const std::vector<const Method*>& all) {
+                              const std::vector<Method>& all) {
   const oracle::Result r = oracle::classify(g.frustum, g.volume);
-  const ErrorClass cls = error_class(verdict, r.truth);
+  const ErrorClass cls = error_class(verdict, r.truth, m.three_way);
   const std::string hash = geometry_hash(g.frustum, g.volume);
   Case c;
   c.id = fmt::format("{}-{}-{}", m.name, to_string(cls), hash);
@@ -361,6 +364,8 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   x["verdict"] = std::string(to_string(verdict));
   x["class"] = to_string(cls);
   x["claim"] = std::string(to_string(m.claim));
+  x["origin"] = std::string(to_string(m.origin));
+  if (!m.three_way) x["two_way"] = true;
   const double scale = gen::case_scale(g.frustum, g.volume);
   const double backward = backward_distance(g.frustum, g.volume, cls);
   x["violates_claim"] = violates_claim(m.claim, cls, std::min(r.distance, backward), m.tolerance, scale);
@@ -375,9 +380,8 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   x["index"] = index;
   x["reproduce"] = reproduce_command(seed, d, index, m.name);
   nlohmann::json verdicts = nlohmann::json::object();
-  for (const Method* o : all)
-    if (o->takes(g.volume))
-      if (auto v = o->classify(g.frustum, g.volume)) verdicts[o->name] = std::string(to_string(*v));
+  for (const Method& o : all)
+    if (auto v = run_method(o, g)) verdicts[o.name] = std::string(to_string(*v));
   x["verdicts"] = verdicts;
   const auto file = dir / m.name / gen::to_string(d) / fmt::format("{}-{}.json", to_string(cls), hash);
   if (std::filesystem::exists(file)) return "";
@@ -390,33 +394,142 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   return c.id;
 }
 
-double time_method(const Method& m, const std::vector<GenCase>& cases) {
-  std::vector<const GenCase*> mine;
-  for (const GenCase& c : cases)
-    if (m.takes(c.volume)) mine.push_back(&c);
-  if (mine.empty()) return 0.0;
-  std::uint64_t calls = 0;
-  unsigned sink = 0;
+// A frame's volumes split by kind, for classify_batch.
+struct KindedFrame {
+  CaseFrustum frustum;
+  std::vector<Point> points;
+  std::vector<Sphere> spheres;
+  std::vector<Aabb> aabbs;
+  std::vector<Obb> obbs;
+  std::size_t size() const noexcept { return points.size() + spheres.size() + aabbs.size() + obbs.size(); }
+};
+
+KindedFrame split(gen::Frame f) {
+  KindedFrame k;
+  k.frustum = std::move(f.frustum);
+  for (const Volume& v : f.volumes)
+    std::visit(
+        [&](const auto& x) {
+          using T = std::decay_t<decltype(x)>;
+          if constexpr (std::is_same_v<T, Point>) k.points.push_back(x);
+          else if constexpr (std::is_same_v<T, Sphere>) k.spheres.push_back(x);
+          else if constexpr (std::is_same_v<T, Aabb>) k.aabbs.push_back(x);
+          else k.obbs.push_back(x);
+        },
+        v);
+  return k;
+}
+
+struct Timing {
+  double ns_per_test = std::numeric_limits<double>::quiet_NaN();
+  double ns_setup_per_frame = std::numeric_limits<double>::quiet_NaN();
+};
+
+// Times prepare once per frame and classify_batch over each frame's volumes, in passes over the
+// frames until each measure has run for at least 20 ms. Frames the method does not apply to
+// are left out.
+Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
+  constexpr double kMinSeconds = 0.02;
+  Timing t;
+  std::vector<const KindedFrame*> mine;
+  std::size_t volumes = 0;
+  for (const KindedFrame& f : frames) {
+    if (f.size() == 0 || !m.prepare(f.frustum)) continue;
+    mine.push_back(&f);
+    volumes += f.size();
+  }
+  if (mine.empty()) return t;
+  m.reset();
+  std::size_t prepared = 0;
   const auto t0 = Clock::now();
   double secs = 0.0;
   do {
-    for (const GenCase* c : mine) {
-      const auto v = m.classify(c->frustum, c->volume);
-      sink += v ? unsigned(*v) : 3u;
+    for (const KindedFrame* f : mine) {
+      const auto p = m.prepare(f->frustum);
+      prepared += p != nullptr;
     }
-    calls += mine.size();
     secs = std::chrono::duration<double>(Clock::now() - t0).count();
-  } while (secs < 0.02);
+  } while (secs < kMinSeconds);
+  t.ns_setup_per_frame = secs * 1e9 / double(prepared);
+
+  std::vector<std::unique_ptr<PreparedFrustum>> states;
+  for (const KindedFrame* f : mine) states.push_back(m.prepare(f->frustum));
+  std::vector<Answer> answers(std::max({std::size_t(1), mine.front()->size()}));
+  for (const KindedFrame* f : mine) answers.resize(std::max(answers.size(), f->size()));
+  unsigned sink = 0;
+  std::uint64_t tests = 0;
+  const auto t1 = Clock::now();
+  secs = 0.0;
+  do {
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+      const KindedFrame& f = *mine[i];
+      PreparedFrustum& p = *states[i];
+      Answer* a = answers.data();
+      if (!f.points.empty()) p.classify_batch(f.points.data(), f.points.size(), a), a += f.points.size();
+      if (!f.spheres.empty()) p.classify_batch(f.spheres.data(), f.spheres.size(), a), a += f.spheres.size();
+      if (!f.aabbs.empty()) p.classify_batch(f.aabbs.data(), f.aabbs.size(), a), a += f.aabbs.size();
+      if (!f.obbs.empty()) p.classify_batch(f.obbs.data(), f.obbs.size(), a), a += f.obbs.size();
+      sink += answers[0] ? unsigned(*answers[0]) : 3u;
+      sink += answers[f.size() - 1] ? unsigned(*answers[f.size() - 1]) : 3u;
+    }
+    tests += volumes;
+    secs = std::chrono::duration<double>(Clock::now() - t1).count();
+  } while (secs < kMinSeconds);
   static std::atomic<unsigned> keep{0};
   keep += sink;  // keeps the calls from being optimised away
-  return secs * 1e9 / double(calls);
+  t.ns_per_test = secs * 1e9 / double(tests);
+  return t;
+}
+
+// Saves the case that made a method fault and builds the error. Faults are searched from the
+// smallest case index, so the same seed reports the same case.
+[[noreturn]] void fault(const VerifyOptions& opt, const Method& m, gen::Distribution d, std::uint64_t index,
+                        const GenCase& g, const std::string& problem) {
+  Case c;
+  c.id = fmt::format("{}-fault-{}", m.name, geometry_hash(g.frustum, g.volume));
+  c.frustum = g.frustum;
+  c.volume = g.volume;
+  c.note = problem;
+  c.extra["method"] = m.name;
+  c.extra["fault"] = problem;
+  c.extra["distribution"] = std::string(gen::to_string(d));
+  c.extra["seed"] = opt.seed;
+  c.extra["index"] = index;
+  c.extra["reproduce"] = reproduce_command(opt.seed, d, index, m.name);
+  std::optional<std::filesystem::path> dir = opt.faults;
+  if (!dir && opt.corpus) dir = *opt.corpus / "faults";
+  std::optional<std::filesystem::path> saved;
+  std::string where = "not saved (no corpus folder)";
+  if (dir) {
+    const auto file = *dir / m.name / fmt::format("{}.json", geometry_hash(g.frustum, g.volume));
+    try {
+      if (!std::filesystem::exists(file)) write_case_file(file, c, /*overwrite=*/false);
+      saved = file;
+      where = "saved to " + file.string();
+    } catch (const std::exception& e) {
+      where = std::string("could not be saved: ") + e.what();
+    }
+  }
+  const std::string line = format_case(c);
+  const nlohmann::json j = nlohmann::json::parse(line);
+  throw MethodFault(fmt::format("{}\n  on case {} of distribution {} (seed {}); the run is incomplete, no results are reported\n"
+                                "  reproduce: {}\n  case {}\n  {}",
+                                problem, index, gen::to_string(d), opt.seed, reproduce_command(opt.seed, d, index, m.name),
+                                where, line),
+                    m.name, j, saved);
 }
 
 }  // namespace
 
-VerifyResult run_verify(const VerifyOptions& opt) {
+VerifyResult run_verify(const VerifyOptions& opt) { return run_verify(opt, builtin_methods(opt.methods)); }
+
+VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms) {
   const auto t_start = Clock::now();
-  const std::vector<const Method*> ms = select_methods(opt.methods);
+  {
+    std::set<std::string> names;
+    for (const Method& m : ms)
+      if (!names.insert(m.name).second) throw std::invalid_argument("two methods are named '" + m.name + "'");
+  }
   const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
@@ -437,23 +550,58 @@ VerifyResult run_verify(const VerifyOptions& opt) {
       cases[i] = gen::draw(d, opt.seed, first + i).value();
       validate(cases[i].volume);
     }
+    // A fault is kept for the smallest case index it happens on (the same seed reports the same
+    // case whatever the threads do).
+    std::mutex fault_mutex;
+    std::uint64_t fault_index = std::numeric_limits<std::uint64_t>::max();
+    std::size_t fault_method = 0;
+    std::string fault_problem;
+    auto note_fault = [&](std::uint64_t i, std::size_t k, const std::string& problem) {
+      std::lock_guard<std::mutex> g(fault_mutex);
+      if (i < fault_index || (i == fault_index && k < fault_method)) {
+        fault_index = i;
+        fault_method = k;
+        fault_problem = problem;
+      }
+    };
+    auto run_one = [&](std::uint64_t i, std::size_t k) {
+      try {
+        const auto v = run_method(ms[k], cases[i]);
+        out[i].verdict[k] = v ? std::int8_t(*v) : std::int8_t(-1);
+      } catch (const std::exception& e) {
+        out[i].verdict[k] = -1;
+        note_fault(i, k, e.what());
+      }
+    };
     tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
         out[i].truth = oracle::truth(cases[i].frustum, cases[i].volume);
         out[i].verdict.resize(ms.size());
-        for (std::size_t k = 0; k < ms.size(); ++k) {
-          const auto v = run_method(*ms[k], cases[i]);
-          out[i].verdict[k] = v ? std::int8_t(*v) : std::int8_t(-1);
-        }
+        for (std::size_t k = 0; k < ms.size(); ++k)
+          if (!ms[k].stateful) run_one(i, k);
       }
       progress.add(r.size());
     });
+    // Stateful methods on one thread, in case order, each case a camera path of one frame.
+    for (std::size_t k = 0; k < ms.size(); ++k)
+      if (ms[k].stateful)
+        for (std::uint64_t i = 0; i < per; ++i) {
+          ms[k].reset();
+          run_one(i, k);
+        }
+    if (fault_index != std::numeric_limits<std::uint64_t>::max()) {
+      progress.finish();
+      fault(opt, ms[fault_method], d, first + fault_index, cases[fault_index], fault_problem);
+    }
     // The oracle's distance (an exact QP for outside volumes) and the case scale, once per case
     // that some method got wrong, in parallel: they depend on the case, not on the method.
     tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per, 16), [&](const tbb::blocked_range<std::uint64_t>& r) {
       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
         bool erred = false;
-        for (std::int8_t v : out[i].verdict) erred = erred || (v >= 0 && Visibility(v) != out[i].truth);
+        for (std::size_t k = 0; k < ms.size(); ++k) {
+          const std::int8_t v = out[i].verdict[k];
+          erred = erred || (v >= 0 && error_class(Visibility(v), out[i].truth, ms[k].three_way) != ErrorClass::correct);
+        }
         if (!erred) continue;
         out[i].distance = oracle::classify(cases[i].frustum, cases[i].volume, oracle::Options{true, true, false}).distance;
         out[i].scale = gen::case_scale(cases[i].frustum, cases[i].volume);
@@ -461,24 +609,36 @@ VerifyResult run_verify(const VerifyOptions& opt) {
     });
     const auto st1 = oracle::stats();
 
+    // Timing frames, drawn once per set of volume kinds (methods that take the same kinds are
+    // timed on the same volumes).
+    std::map<unsigned, std::vector<KindedFrame>> frames;
+    if (opt.timing)
+      for (const Method& m : ms)
+        if (!frames.count(m.volumes)) {
+          std::vector<KindedFrame>& fs = frames[m.volumes];
+          for (int j = 0; j < opt.timing_frames; ++j)
+            fs.push_back(split(gen::draw_frame(d, opt.seed, std::uint64_t(j), opt.frame_size, m.volumes)));
+        }
+
     DistributionResult dr;
     dr.distribution = d;
     dr.cases = per;
     dr.oracle_calls = st1.calls - st0.calls;
     dr.oracle_fallbacks = st1.fallbacks - st0.fallbacks;
     for (std::size_t k = 0; k < ms.size(); ++k) {
-      const Method& m = *ms[k];
+      const Method& m = ms[k];
       MethodStats s;
       s.method = m.name;
       s.claim = m.claim;
-      s.published = m.published;
+      s.origin = m.origin;
+      s.three_way = m.three_way;
       std::map<ErrorClass, int> written, violations_written;
       for (std::uint64_t i = 0; i < per; ++i) {
         if (out[i].verdict[k] < 0) continue;
         const Visibility v = Visibility(out[i].verdict[k]), t = out[i].truth;
         ++s.cases;
         (t == Visibility::outside ? s.truth_outside : t == Visibility::inside ? s.truth_inside : s.truth_intersecting)++;
-        const ErrorClass cls = error_class(v, t);
+        const ErrorClass cls = error_class(v, t, m.three_way);
         if (cls == ErrorClass::correct) continue;
         switch (cls) {
           case ErrorClass::false_reject: ++s.false_reject; break;
@@ -507,13 +667,24 @@ VerifyResult run_verify(const VerifyOptions& opt) {
         if (opt.corpus && quota < (violation ? kViolationsPerClass : opt.corpus_per_class)) {
           ++quota;
           const GenCase small = shrink(gen::draw(d, opt.seed, first + i), m, cls, violation, opt.shrink_budget);
-          const auto vs = run_method(m, small);
+          Answer vs;
+          try {
+            vs = run_method(m, small);
+          } catch (const std::exception& e) {
+            progress.finish();
+            fault(opt, m, d, first + i, small, e.what());
+          }
           if (!vs) continue;
           const std::string id = write_corpus_case(*opt.corpus, small, m, *vs, d, opt.seed, first + i, ms);
           if (!id.empty()) s.corpus_written.push_back(id);
         }
       }
-      if (opt.timing) s.ns_per_test = time_method(m, cases);
+      if (opt.timing) {
+        const Timing t = time_method(m, frames.at(m.volumes));
+        s.ns_per_test = t.ns_per_test;
+        s.ns_setup_per_frame = t.ns_setup_per_frame;
+        s.timed_batch = m.has_batch();
+      }
       dr.methods.push_back(std::move(s));
     }
     result.distributions.push_back(std::move(dr));
@@ -537,6 +708,8 @@ std::string median_max(std::vector<double> v) {
   return fmt::format("{:.2g} / {:.2g}", v[v.size() / 2], v.back());
 }
 
+std::string ns(double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : "-"; }
+
 }  // namespace
 
 void print_tables(const VerifyResult& r, std::ostream& out) {
@@ -544,22 +717,32 @@ void print_tables(const VerifyResult& r, std::ostream& out) {
     out << fmt::format("\n## {} ({} cases: {}; oracle fallback to exact LP {:.1f}%)\n\n", gen::to_string(d.distribution),
                        d.cases, gen::describe(d.distribution),
                        d.oracle_calls ? 100.0 * double(d.oracle_fallbacks) / double(d.oracle_calls) : 0.0);
-    out << "| method | claim | cases | false rejects | false inside | false-intersect % (95% CI) | under-inside % | FI distance / scene (median / max) | ns/test |\n";
-    out << "|---|---|---:|---:|---:|---|---:|---|---:|\n";
+    out << "| method | origin | claim | cases | false rejects | false inside | false-intersect % (95% CI) | under-inside % "
+           "| FI distance / scene (median / max) | set-up ns/frame | ns/test |\n";
+    out << "|---|---|---|---:|---:|---:|---|---:|---|---:|---:|\n";
     for (const auto& m : d.methods) {
       const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
-      const std::string status = m.claim == Claim::none ? "none"
-                                 : m.refuted() ? fmt::format("{} REFUTED ({})", to_string(m.claim), m.claim_violations)
-                                               : fmt::format("{} held", to_string(m.claim));
-      out << fmt::format("| {} | {}{} | {} | {} | {} | {} ({}-{}) | {} | {} | {:.1f} |\n", m.method, status,
-                         m.published ? "" : " *", m.cases, m.false_reject, m.false_inside,
+      std::string status = m.claim == Claim::none ? "none"
+                           : m.refuted()          ? fmt::format("{} REFUTED ({})", to_string(m.claim), m.claim_violations)
+                                                  : fmt::format("{} held", to_string(m.claim));
+      if (!m.three_way) status += ", two-way";
+      out << fmt::format("| {} | {} | {} | {} | {} | {} | {} ({}-{}) | {} | {} | {} | {}{} |\n", m.method,
+                         to_string(m.origin), status, m.cases, m.false_reject, m.false_inside,
                          pct(m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0), pct(lo),
-                         pct(hi), pct(m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0),
-                         median_max(m.fi_distance), m.ns_per_test);
+                         pct(hi),
+                         m.three_way ? pct(m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0)
+                                     : std::string("-"),
+                         median_max(m.fi_distance), ns(m.ns_setup_per_frame), ns(m.ns_per_test), m.timed_batch ? " (batch)" : "");
     }
   }
-  out << fmt::format("\n* cullproof's own method (a refuted claim fails the run); the others are published methods under test.\n");
-  out << fmt::format("false-intersect % = false intersects / volumes truly outside; under-inside % = / volumes truly inside.\n");
+  out << "\norigin: published = a text under test (a refuted claim is a finding); own = cullproof's, user = yours "
+         "(a refuted claim fails the run).\n";
+  out << "false-intersect % = false intersects / volumes truly outside; under-inside % = / volumes truly inside "
+         "(two-way methods answer visible or outside: not charged).\n";
+  if (r.options.timing)
+    out << fmt::format("cost: set-up = prepare, once per frame; ns/test = classify per volume, {} frames of {} volumes "
+                       "per distribution, through the method's array form where it has one (batch).\n",
+                       r.options.timing_frames, r.options.frame_size);
   out << fmt::format("wall time {:.1f} s\n", r.wall_seconds);
 }
 
@@ -568,7 +751,9 @@ nlohmann::json to_json(const VerifyResult& r) {
   j["seed"] = r.options.seed;
   j["cases_per_distribution"] = r.options.only_index ? 1 : r.options.cases;
   j["wall_seconds"] = r.wall_seconds;
-  j["own_claim_broken"] = r.own_claim_broken();
+  j["claim_broken"] = r.claim_broken();
+  j["frame_size"] = r.options.frame_size;
+  j["timing_frames"] = r.options.timing_frames;
   for (const auto& d : r.distributions) {
     nlohmann::json jd;
     jd["distribution"] = std::string(gen::to_string(d.distribution));
@@ -581,7 +766,8 @@ nlohmann::json to_json(const VerifyResult& r) {
       std::sort(dist.begin(), dist.end());
       jd["methods"].push_back({{"method", m.method},
                                {"claim", std::string(to_string(m.claim))},
-                               {"published", m.published},
+                               {"origin", std::string(to_string(m.origin))},
+                               {"three_way", m.three_way},
                                {"refuted", m.refuted()},
                                {"claim_violations", m.claim_violations},
                                {"cases", m.cases},
@@ -595,7 +781,9 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"under_inside_rate", m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0},
                                {"fi_distance_median", dist.empty() ? nlohmann::json(nullptr) : nlohmann::json(dist[dist.size() / 2])},
                                {"fi_distance_max", dist.empty() ? nlohmann::json(nullptr) : nlohmann::json(dist.back())},
-                               {"ns_per_test", m.ns_per_test},
+                               {"ns_per_test", std::isfinite(m.ns_per_test) ? nlohmann::json(m.ns_per_test) : nlohmann::json(nullptr)},
+                               {"ns_setup_per_frame", std::isfinite(m.ns_setup_per_frame) ? nlohmann::json(m.ns_setup_per_frame) : nlohmann::json(nullptr)},
+                               {"timed_batch", m.timed_batch},
                                {"corpus_written", m.corpus_written}});
     }
     j["distributions"].push_back(jd);

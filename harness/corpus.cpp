@@ -76,19 +76,26 @@ std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir) {
   return out;
 }
 
-ReplayResult replay(const CorpusEntry& e) {
+ReplayResult replay(const CorpusEntry& e) { return replay(e, builtin_methods()); }
+
+ReplayResult replay(const CorpusEntry& e, const std::vector<Method>& methods) {
+  auto find = [&](const std::string& name) -> const Method* {
+    for (const Method& m : methods)
+      if (m.name == name) return &m;
+    return nullptr;
+  };
   ReplayResult r;
   r.entry = &e;
   r.truth_now = oracle::truth(e.c.frustum, e.c.volume);
   r.truth_changed = r.truth_now != *e.c.truth;
-  if (const Method* m = find_method(e.method); m && m->takes(e.c.volume)) r.verdict_now = m->classify(e.c.frustum, e.c.volume);
+  if (const Method* m = find(e.method)) r.verdict_now = checked_classify(*m, e.c.frustum, e.c.volume);
   r.reproduces = r.verdict_now && *r.verdict_now == e.verdict;
   r.fixed = r.verdict_now && *r.verdict_now == r.truth_now;
   if (auto it = e.c.extra.find("verdicts"); it != e.c.extra.end() && it->is_object()) {
     for (auto v = it->begin(); v != it->end(); ++v) {
-      const Method* m = find_method(v.key());
+      const Method* m = find(v.key());
       if (!m || !v->is_string()) continue;
-      const auto now = m->takes(e.c.volume) ? m->classify(e.c.frustum, e.c.volume) : std::nullopt;
+      const auto now = checked_classify(*m, e.c.frustum, e.c.volume);
       const Visibility recorded = visibility_from_string(v->get<std::string>());
       if (!now || *now != recorded) r.changed.push_back(v.key());
       if (recorded == *e.c.truth && (!now || *now != r.truth_now)) r.regressed.push_back(v.key());

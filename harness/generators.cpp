@@ -327,32 +327,31 @@ GenCase make(const Camera& cam, const Placement& p, Volume v) {
   return g;
 }
 
-GenCase generic_case(Distribution d) {
-  const Camera cam = generic_camera();
-  const Placement p = placement_for(cam);
+// A volume of generic distribution d around placement p (its draws follow the camera's).
+Volume generic_volume(Distribution d, const Placement& p) {
   const Shape shape = d == Distribution::degenerate ? Shape::aabb : any_shape();
   switch (d) {
     case Distribution::uniform: {
       const glm::dvec3 x = p.center + p.size * 0.75 * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1));
-      return make(cam, p, volume_at(shape, x, p.size * rel_size(-3, -0.5)));
+      return volume_at(shape, x, p.size * rel_size(-3, -0.5));
     }
-    case Distribution::near_boundary: return make(cam, p, near_boundary(p, shape, p.size * rel_size(-3, -1)));
-    case Distribution::corner: return make(cam, p, near_corner(p, shape, p.size * rel_size(-3, -1)));
+    case Distribution::near_boundary: return near_boundary(p, shape, p.size * rel_size(-3, -1));
+    case Distribution::corner: return near_corner(p, shape, p.size * rel_size(-3, -1));
     case Distribution::enclosing: {
       const glm::dvec3 x = p.center + p.size * 0.2 * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1));
-      return make(cam, p, volume_at(shape == Shape::point ? Shape::aabb : shape, x, p.size * in(0.5, 1.5)));
+      return volume_at(shape == Shape::point ? Shape::aabb : shape, x, p.size * in(0.5, 1.5));
     }
     case Distribution::tiny_huge: {
       const double s = p.size * rel_size(-7, 1);
-      return make(cam, p, coin(50) ? near_boundary(p, shape, s)
-                                   : volume_at(shape, p.center + p.size * 0.6 * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1)), s));
+      return coin(50) ? near_boundary(p, shape, s)
+                      : volume_at(shape, p.center + p.size * 0.6 * glm::dvec3(in(-1, 1), in(-1, 1), in(-1, 1)), s);
     }
     case Distribution::degenerate: {
       const double s = p.size * rel_size(-3, -1);
       Volume v = coin(50) ? near_boundary(p, Shape::aabb, s) : near_corner(p, Shape::aabb, s);
       const int kind = pick(6);
-      if (kind == 0) return make(cam, p, Point(std::get<Aabb>(v).center()));
-      if (kind == 1) return make(cam, p, Sphere{std::get<Aabb>(v).center(), 0.0f});
+      if (kind == 0) return Point(std::get<Aabb>(v).center());
+      if (kind == 1) return Sphere{std::get<Aabb>(v).center(), 0.0f};
       Aabb b = std::get<Aabb>(v);
       const int keep = kind == 2 ? 0 : kind == 3 ? 1 : 2;  // 2: point box, 3: segment, 4-5: flat
       for (int a = 0, kept = 0; a < 3; ++a) {
@@ -363,12 +362,18 @@ GenCase generic_case(Distribution d) {
         }
         b.min[a] = b.max[a] = b.center()[a];
       }
-      if (coin(50)) return make(cam, p, to_obb(b));
-      return make(cam, p, b);
+      if (coin(50)) return to_obb(b);
+      return b;
     }
     default: break;
   }
-  return make(cam, p, volume_at(shape, p.center, p.size * 0.1));
+  return volume_at(shape, p.center, p.size * 0.1);
+}
+
+GenCase generic_case(Distribution d) {
+  const Camera cam = generic_camera();
+  const Placement p = placement_for(cam);
+  return make(cam, p, generic_volume(d, p));
 }
 
 // Exact touching --------------------------------------------------------------------------------
@@ -612,16 +617,59 @@ rc::Gen<CaseFrustum> any_frustum() {
   return rc::gen::resize(100, rc::gen::exec([] { return realize(generic_camera()); }));
 }
 
-rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index) {
-  // One independent stream per (seed, distribution, index): splitmix64 of the three.
+namespace {
+
+// One independent stream per (seed, distribution, index): splitmix64 of the three.
+std::uint64_t draw_key(std::uint64_t seed, Distribution d, std::uint64_t index) {
   auto mix = [](std::uint64_t x) {
     x += 0x9E3779B97F4A7C15ull;
     x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
     x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
     return x ^ (x >> 31);
   };
-  const std::uint64_t key = mix(mix(mix(seed) ^ std::uint64_t(d)) ^ index);
-  return case_of(d)(rc::Random(key), 100);
+  return mix(mix(mix(seed) ^ std::uint64_t(d)) ^ index);
+}
+
+}  // namespace
+
+rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index) {
+  return case_of(d)(rc::Random(draw_key(seed, d, index)), 100);
+}
+
+Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::size_t size, unsigned kinds) {
+  if (kinds == 0) throw std::invalid_argument("draw_frame: no volume kind asked for");
+  // Up to 64 draws per volume asked for: a kind the distribution rarely makes (points) still
+  // fills the frame; one it never makes leaves it short, which the caller sees.
+  const std::size_t attempts = 64 * size;
+  Frame out;
+  const bool generic = [&] {
+    for (Distribution g : generic_distributions())
+      if (g == d) return true;
+    return false;
+  }();
+  if (generic) {
+    // One camera, then volumes of the distribution around its frustum: an engine's frame.
+    out = rc::gen::exec([&] {
+      Frame fr;
+      const Camera cam = generic_camera();
+      const Placement p = placement_for(cam);
+      fr.frustum = realize(cam);
+      for (std::size_t k = 0; k < attempts && fr.volumes.size() < size; ++k) {
+        Volume v = generic_volume(d, p);
+        if (kinds & volume_kind(v)) fr.volumes.push_back(std::move(v));
+      }
+      return fr;
+    })(rc::Random(draw_key(seed ^ 0x6672616d65ull, d, index)), 100).value();
+  } else {
+    // The hard families build frustum and volume together: the first case's frustum with the
+    // volumes of the cases that follow it.
+    for (std::uint64_t k = 0; k < attempts && out.volumes.size() < size; ++k) {
+      GenCase c = draw(d, seed ^ 0x6672616d65ull, index * attempts + k).value();
+      if (k == 0) out.frustum = c.frustum;
+      if (kinds & volume_kind(c.volume)) out.volumes.push_back(std::move(c.volume));
+    }
+  }
+  return out;
 }
 
 double case_scale(const CaseFrustum& f, const Volume& v) {

@@ -1,5 +1,8 @@
-// The method registry: the families register themselves; names are checked to be unique.
+// Methods: names of claims and origins, the Method type, and the built-in registry (the
+// families register themselves; names are checked to be unique).
 #include "cullproof/methods.hpp"
+
+#include "builtin.hpp"
 
 #include <set>
 #include <stdexcept>
@@ -17,6 +20,33 @@ std::string_view to_string(Claim c) noexcept {
   return "invalid";
 }
 
+Claim claim_from_string(std::string_view s) {
+  for (Claim c : {Claim::certified_conservative, Claim::certified_exact, Claim::conservative, Claim::exact, Claim::none})
+    if (to_string(c) == s) return c;
+  throw std::invalid_argument("unknown claim '" + std::string(s) +
+                              "' (known: certified-conservative, certified-exact, conservative, exact, none)");
+}
+
+std::string_view to_string(Origin o) noexcept {
+  switch (o) {
+    case Origin::published: return "published";
+    case Origin::own: return "own";
+    case Origin::user: return "user";
+  }
+  return "invalid";
+}
+
+Method::Method(MethodInfo info, Prepare prepare, bool batch)
+    : MethodInfo(std::move(info)), prepare_(std::move(prepare)), batch_(batch) {
+  if (!prepare_) throw std::invalid_argument("method '" + name + "' has no prepare function");
+}
+
+Answer Method::classify(const CaseFrustum& f, const Volume& v) const {
+  const std::unique_ptr<PreparedFrustum> p = prepare(f);
+  if (!p) return std::nullopt;
+  return p->classify(v);
+}
+
 namespace {
 
 std::vector<Method> build() {
@@ -25,25 +55,37 @@ std::vector<Method> build() {
   detail::register_exact_methods(out);
   detail::register_certified_methods(out);
   std::set<std::string> seen;
-  for (const Method& m : out) {
-    if (!seen.insert(m.name).second)
-      throw std::logic_error("cullproof: method name registered twice: " + m.name);
-    if (!m.classify) throw std::logic_error("cullproof: method without classify: " + m.name);
-  }
+  for (const Method& m : out)
+    if (!seen.insert(m.name).second) throw std::logic_error("cullproof: method name registered twice: " + m.name);
   return out;
 }
 
 }  // namespace
 
-const std::vector<Method>& methods() {
+const std::vector<Method>& builtin_methods() {
   static const std::vector<Method> all = build();
   return all;
 }
 
-const Method* find_method(std::string_view name) {
-  for (const Method& m : methods())
+const Method* find_builtin(std::string_view name) {
+  for (const Method& m : builtin_methods())
     if (m.name == name) return &m;
   return nullptr;
+}
+
+std::vector<Method> builtin_methods(const std::vector<std::string>& names) {
+  if (names.empty()) return builtin_methods();
+  std::vector<Method> out;
+  for (const std::string& n : names) {
+    const Method* m = find_builtin(n);
+    if (!m) {
+      std::string known;
+      for (const Method& k : builtin_methods()) known += (known.empty() ? "" : ", ") + k.name;
+      throw std::invalid_argument("unknown method '" + n + "' (known: " + known + ")");
+    }
+    out.push_back(*m);
+  }
+  return out;
 }
 
 }  // namespace cullproof

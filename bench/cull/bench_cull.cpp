@@ -1,6 +1,6 @@
 // Benchmarks of the fast culler family (issue 4). One binary, the same data for all methods:
 //  - ns per test for every method on random near-frustum volumes (direct API with per-frame
-//    set-up hoisted, and through the registry);
+//    set-up hoisted, and through the method interface, as verify times them);
 //  - batch cull of 1M AABBs (SoA, warm cache): SIMD vs the scalar n/p loop vs a plain SoA loop;
 //  - hierarchy of 100k leaves: ns per visited node, and the all-visible traversal vs the flat
 //    batch scan of the same leaves.
@@ -199,25 +199,35 @@ void register_direct() {
   });
 }
 
-// Through the registry: every registered method, std::function + variant dispatch, per-call
-// derivations (radar camera, octant set-up, normalisation) included.
-void register_registry() {
-  for (const Method& m : methods()) {
-    benchmark::RegisterBenchmark(("registry/" + m.name).c_str(), [&m](benchmark::State& s) {
+// Through the method interface, as `cullproof verify` times every method: prepare once per
+// frame (set-up/NAME), then classify_batch over the frame's volumes (interface/NAME: the
+// method's array form where it has one, else its classify in a loop over the array).
+void register_interface() {
+  for (const Method& m : builtin_methods()) {
+    benchmark::RegisterBenchmark(("interface/" + m.name).c_str(), [&m](benchmark::State& s) {
       const Data& dd = data();
-      const std::vector<Volume>* vols = (m.volumes & kAabbKind) ? &dd.vol_box
-                                        : (m.volumes & kObbKind) ? &dd.vol_obb
-                                        : (m.volumes & kSphereKind) ? &dd.vol_sphere
-                                                                     : &dd.vol_point;
-      for (auto _ : s) {
-        unsigned sum = 0;
-        for (const Volume& v : *vols) {
-          const auto r = m.classify(dd.spec, v);
-          sum += r ? static_cast<unsigned>(*r) : 7u;
-        }
-        benchmark::DoNotOptimize(sum);
+      const auto p = m.prepare(dd.spec);
+      if (!p) {
+        s.SkipWithError("does not apply to the benchmark frustum");
+        return;
       }
-      per_test(s, vols->size());
+      std::vector<Answer> out(dd.boxes.size());
+      for (auto _ : s) {
+        if (m.volumes & kAabbKind) p->classify_batch(dd.boxes.data(), dd.boxes.size(), out.data());
+        else if (m.volumes & kObbKind) p->classify_batch(dd.obbs.data(), dd.obbs.size(), out.data());
+        else if (m.volumes & kSphereKind) p->classify_batch(dd.spheres.data(), dd.spheres.size(), out.data());
+        else p->classify_batch(dd.points.data(), dd.points.size(), out.data());
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+      }
+      per_test(s, dd.boxes.size());
+    });
+    benchmark::RegisterBenchmark(("set-up/" + m.name).c_str(), [&m](benchmark::State& s) {
+      const Data& dd = data();
+      for (auto _ : s) {
+        auto p = m.prepare(dd.spec);
+        benchmark::DoNotOptimize(p.get());
+      }
     });
   }
 }
@@ -539,7 +549,7 @@ BENCHMARK_CAPTURE(BM_flat_batch_100k_indices, all_visible, true)->Unit(benchmark
 
 int main(int argc, char** argv) {
   cullproof::register_direct();
-  cullproof::register_registry();
+  cullproof::register_interface();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -9,7 +9,10 @@
 //  - distance of a false intersect = the oracle's exact Euclidean distance between the volume
 //    and the frustum, divided by the scene size (the diameter of the frustum's bounded part);
 //  - a claim is refuted by an error its claim forbids (see `violates_claim`), beyond the method's
-//    tolerance where the claim has one.
+//    tolerance where the claim has one;
+//  - cost: per frame, the method's prepare (set-up) is timed apart from its classify over the
+//    frame's volumes (through its array form when it has one): cases are grouped into frames of
+//    VerifyOptions::frame_size volumes against one frustum, as a culler runs in an engine.
 #pragma once
 
 #include "cullproof/generators.hpp"
@@ -21,6 +24,7 @@
 #include <filesystem>
 #include <iosfwd>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -30,8 +34,9 @@ namespace cullproof {
 enum class ErrorClass : std::uint8_t { correct, false_reject, false_inside, false_intersect, under_inside };
 /// "correct", "false-reject", "false-inside", "false-intersect", "under-inside".
 const char* to_string(ErrorClass e) noexcept;
-/// The class of `verdict` when the truth is `truth`.
-ErrorClass error_class(Visibility verdict, Visibility truth) noexcept;
+/// The class of `verdict` when the truth is `truth`. A two-way method (three_way == false)
+/// answers `intersecting` for "visible": it is never charged with an under-inside.
+ErrorClass error_class(Visibility verdict, Visibility truth, bool three_way = true) noexcept;
 /// Whether an error of class `e` at exact boundary distance `distance` breaks `claim`, for a
 /// method with rounding tolerance `tolerance` (relative to `scale`, see Method::tolerance).
 bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale) noexcept;
@@ -57,26 +62,60 @@ struct VerifyOptions {
   std::uint64_t cases = 100000;                ///< per distribution
   std::uint64_t seed = 1;
   std::vector<gen::Distribution> distributions = gen::generic_distributions();
-  std::vector<std::string> methods;            ///< empty: every registered method
+  std::vector<std::string> methods;            ///< run_verify(options): built-in names; empty: all
   int threads = 0;                             ///< 0: all hardware threads
   std::optional<std::filesystem::path> corpus; ///< write new mismatches here
   int corpus_per_class = 1;                    ///< non-violating errors kept per (method, distribution, class)
   int shrink_budget = 400;                     ///< oracle calls per shrink
   std::optional<std::uint64_t> only_index;     ///< reproduce one case
   bool progress = true;                        ///< progress bar on stderr
-  bool timing = true;                          ///< measure ns/test
+  bool timing = true;                          ///< measure set-up per frame and ns/test
+  std::size_t frame_size = 1024;               ///< volumes per frame when timing
+  int timing_frames = 8;                       ///< frames per distribution when timing
+  /// Where a case that makes a method fault is saved (see MethodFault); unset: `corpus`/faults.
+  std::optional<std::filesystem::path> faults;
 };
+
+/// A method broke the method interface on a case: it threw, answered a value that is not a
+/// verdict, or answered `inside` although it is two-way. The run stops: its other results are
+/// not reported. what() names the method, the problem and the case (distribution, index, the
+/// reproduce command, and where the case was saved).
+class MethodFault : public std::runtime_error {
+ public:
+  MethodFault(const std::string& what, std::string method, nlohmann::json failing_case,
+              std::optional<std::filesystem::path> saved)
+      : std::runtime_error(what), method_(std::move(method)), case_(std::move(failing_case)), saved_(std::move(saved)) {}
+  const std::string& method() const noexcept { return method_; }
+  /// The case, in the case format (with the distribution, index and reproduce command).
+  const nlohmann::json& failing_case() const noexcept { return case_; }
+  /// The file the case was saved to, if it was.
+  const std::optional<std::filesystem::path>& saved() const noexcept { return saved_; }
+
+ private:
+  std::string method_;
+  nlohmann::json case_;
+  std::optional<std::filesystem::path> saved_;
+};
+
+/// Runs method `m` on one case as the campaign does (prepare, then classify), checking what it
+/// answers: std::nullopt when it does not take the volume or does not apply. Throws
+/// std::runtime_error naming the method and the problem when it throws or answers a value that
+/// is not a verdict (or `inside`, being two-way).
+Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v);
 
 struct MethodStats {
   std::string method;
   Claim claim = Claim::none;
-  bool published = true;
+  Origin origin = Origin::user;
+  bool three_way = true;
   std::uint64_t cases = 0;  ///< cases the method applies to
   std::uint64_t truth_outside = 0, truth_intersecting = 0, truth_inside = 0;
   std::uint64_t false_reject = 0, false_inside = 0, false_intersect = 0, under_inside = 0;
   std::uint64_t claim_violations = 0;
   std::vector<double> fi_distance;  ///< relative distances of false intersects
-  double ns_per_test = 0.0;
+  double ns_per_test = 0.0;         ///< classify, per volume, in frames (NaN: not timed)
+  double ns_setup_per_frame = 0.0;  ///< prepare, per frame (NaN: not timed)
+  bool timed_batch = false;         ///< classify was timed through the method's array form
   std::vector<std::string> corpus_written;  ///< ids of corpus cases written by this run
   bool refuted() const noexcept { return claim_violations > 0; }
 };
@@ -92,11 +131,16 @@ struct VerifyResult {
   VerifyOptions options;
   std::vector<DistributionResult> distributions;
   double wall_seconds = 0.0;
-  /// A claim of one of cullproof's own methods broke (the run's exit status is non-zero).
-  bool own_claim_broken() const noexcept;
+  /// A claim of one of cullproof's own methods or of a user's method broke (the run's exit
+  /// status is non-zero). Refuted claims of published methods are findings, not failures.
+  bool claim_broken() const noexcept;
 };
 
-/// Runs the campaign. Progress goes to stderr when options.progress is set.
+/// Runs the campaign on `methods` (a user's, built-in ones, or both; names must be unique).
+/// options.methods is ignored. Progress goes to stderr when options.progress is set. Throws
+/// MethodFault when a method faults, std::invalid_argument for a duplicate name.
+VerifyResult run_verify(const VerifyOptions& options, const std::vector<Method>& methods);
+/// Runs the campaign on the built-in methods named by options.methods (all when empty).
 VerifyResult run_verify(const VerifyOptions& options);
 /// One table per distribution (the README format).
 void print_tables(const VerifyResult& r, std::ostream& out);

@@ -42,7 +42,9 @@ struct ReplayResult {
   std::vector<std::string> regressed;    ///< methods that were correct in the record and now are not
   std::vector<std::string> changed;      ///< methods whose verdict differs from the record
 };
-/// Re-runs the oracle and every recorded method on the entry.
+/// Re-runs the oracle and every recorded built-in method on the entry.
 ReplayResult replay(const CorpusEntry& e);
+/// The same with `methods` (a user's corpus records the user's methods).
+ReplayResult replay(const CorpusEntry& e, const std::vector<Method>& methods);
 
 }  // namespace cullproof

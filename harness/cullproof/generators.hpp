@@ -67,6 +67,18 @@ rc::Gen<CaseFrustum> any_frustum();
 /// Shrinkable (value() is the case; shrinks() its simpler versions).
 rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index);
 
+/// A frame for timing: one frustum and volumes of the distribution against it.
+struct Frame {
+  CaseFrustum frustum;
+  std::vector<Volume> volumes;
+};
+/// Frame `index` of distribution `d` for `seed`: up to `size` volumes whose kind is in `kinds`
+/// (VolumeKind bits), fewer when the distribution rarely makes that kind. Generic distributions
+/// place every volume around one camera's frustum, as in an engine's frame; the hard families,
+/// which build frustum and volume together, give the first case's frustum and the volumes of the
+/// cases that follow. Deterministic; a stream apart from draw()'s cases.
+Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::size_t size, unsigned kinds);
+
 /// The scale against which rounding tolerances are measured (see Method::tolerance): the largest,
 /// over the planes, of what evaluating the plane at the volume rounds, in distance units,
 /// (sum_i a_i M + a_d) / |n|, with M the volume's largest coordinate magnitude and a the bound

@@ -1,15 +1,17 @@
 // Registration of the fast culler family (src/cull/). Each algorithm lives in its own file;
-// this file only wires them to the registry (cullproof/methods.hpp) with their name, source,
-// claim, volume kinds and treatment of touching volumes.
+// this file only wires them to the registry with their description (name, source, claim, volume
+// kinds, treatment of touching volumes) and their two phases: what is derived once per frame
+// (normalised planes, the LUT, the radar camera, the octant set-up) is derived in prepare.
 //
-// Tolerances (Method::tolerance, relative to the case scale) are the rounding allowances of
+// Tolerances (MethodInfo::tolerance, relative to the case scale) are the rounding allowances of
 // the `conservative` / `exact` claims: 1e-6 for tests that evaluate the given planes directly
 // (a few roundings of dot(n, x) + d), 1e-5 for tests that derive data first (normalised planes,
 // camera parameters, OBB corners, clip-space corners, frustum corners, accumulated deltas).
+#include "batch_adapter.hpp"
+#include "builtin.hpp"
 #include "cullproof/cull.hpp"
 #include "cullproof/cull_batch.hpp"
 #include "cullproof/cull_coherence.hpp"
-#include "cullproof/methods.hpp"
 
 #include <cstdint>
 
@@ -24,242 +26,290 @@ const char* const kTouchPn =
     "plane value at the p-vertex == 0 is not rejected (touching from outside: intersecting); "
     "value at the n-vertex == 0 counts as inside (touching from inside: inside)";
 
-using Classify = std::function<std::optional<Visibility>(const CaseFrustum&, const Volume&)>;
+// Per-frame states.
+const auto planes = [](const CaseFrustum& f) { return f.planes; };
+const auto normalized = [](const CaseFrustum& f) { return f.planes.normalized(); };
 
-Method make(std::string name, std::string description, std::string source, Claim claim,
-            unsigned volumes, std::string touching, double tolerance, bool stateful, Classify fn) {
-  Method m;
-  m.name = std::move(name);
-  m.description = std::move(description);
-  m.source = std::move(source);
-  m.claim = claim;
-  m.volumes = volumes;
-  m.touching = std::move(touching);
-  m.tolerance = tolerance;
-  m.stateful = stateful;
-  m.classify = std::move(fn);
-  return m;
+struct ClipMatrix {
+  glm::mat4 m;
+  DepthConvention depth;
+};
+// The case's matrix, or one rebuilt from its planes; nullopt when none can be.
+std::optional<ClipMatrix> case_matrix(const CaseFrustum& f) {
+  if (f.matrix) return ClipMatrix{*f.matrix, f.depth};
+  const auto m = clip_matrix_from_frustum(f.planes);
+  if (!m) return std::nullopt;
+  return ClipMatrix{*m, DepthConvention{}};
 }
 
-// cullproof's own variants (corrections, three-way adaptations, SIMD batch forms): a broken
-// claim is a bug, not a finding about a text.
-Method own(Method m) {
-  m.published = false;
-  return m;
+std::optional<RadarCamera> radar(const CaseFrustum& f, bool as_published) {
+  return radar_camera_from_frustum(f.planes, as_published);
 }
 
-std::optional<glm::mat4> case_matrix(const CaseFrustum& f, DepthConvention& depth) {
-  if (f.matrix) {
-    depth = f.depth;
-    return f.matrix;
-  }
-  depth = DepthConvention{};
-  return clip_matrix_from_frustum(f.planes);
+std::optional<OctantCuller> octant_culler(const CaseFrustum& f) {
+  if (!is_bounded(f.planes) || !is_symmetric(f.planes, 1e-5)) return std::nullopt;
+  return OctantCuller(f.planes);
 }
 
-template <class F>
-Classify on_aabb(F fn) {
-  return [fn](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-    return fn(f.planes, std::get<Aabb>(v));
+struct PlanesAndBounds {
+  Frustum planes;
+  FrustumBounds bounds;
+};
+const auto planes_and_bounds = [](const CaseFrustum& f) { return PlanesAndBounds{f.planes, frustum_bounds(f.planes)}; };
+
+struct PlanesAndNormalized {
+  Frustum planes, normalized;
+};
+
+const auto aabb_kernel = [](const Frustum& f) {
+  return [&f](const AabbSoa& s, std::uint64_t* vis, std::uint64_t* ins) { classify_aabbs_bitset(f, s, vis, ins); };
+};
+const auto sphere_kernel = [](const Frustum& normalized_planes) {
+  return [&normalized_planes](const SphereSoa& s, std::uint64_t* vis, std::uint64_t* ins) {
+    classify_spheres_bitset(normalized_planes, s, vis, ins);
   };
-}
-
-// One box through the SIMD kernel: 64 copies (a full bitset word), so that the vector code
-// runs (a batch shorter than 64 would go through the scalar tail).
-Visibility batch_aabb(const Frustum& f, const Aabb& b) {
-  float a[6][64];
-  for (int i = 0; i < 64; ++i)
-    for (int k = 0; k < 3; ++k) {
-      a[k][i] = b.min[k];
-      a[3 + k][i] = b.max[k];
-    }
-  const AabbSoa soa{a[0], a[1], a[2], a[3], a[4], a[5], 64};
-  std::uint64_t vis = 0, ins = 0;
-  classify_aabbs_bitset(f, soa, &vis, &ins);
-  return (vis & 1u) == 0 ? Visibility::outside : ((ins & 1u) ? Visibility::inside : Visibility::intersecting);
-}
-
-Visibility batch_sphere(const Frustum& normalized, const Sphere& s) {
-  float a[4][64];
-  for (int i = 0; i < 64; ++i) {
-    a[0][i] = s.center.x;
-    a[1][i] = s.center.y;
-    a[2][i] = s.center.z;
-    a[3][i] = s.radius;
-  }
-  std::uint64_t vis = 0, ins = 0;
-  classify_spheres_bitset(normalized, SphereSoa{a[0], a[1], a[2], a[3], 64}, &vis, &ins);
-  return (vis & 1u) == 0 ? Visibility::outside : ((ins & 1u) ? Visibility::inside : Visibility::intersecting);
-}
+};
 
 }  // namespace
 
 void register_cull_methods(std::vector<Method>& out) {
   const std::string am = "Assarsson & Möller 2000, ";
   const std::string lh = "Lighthouse3D View Frustum Culling Tutorial, ";
+  const Origin published = Origin::published, own = Origin::own;
 
   // ---- points
-  out.push_back(make("point-plane", "point against the six planes, outside on the first plane < 0",
-                     lh + "Geometric Approach - Testing Points and Spheres (pointInFrustum)",
-                     Claim::exact, kPointKind, "a point on a plane is inside (distance < 0 rejects)",
-                     kDirectTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       return point_plane_test(f.planes, std::get<Point>(v));
-                     }));
-  out.push_back(make("radar-point", "radar test in camera coordinates (camera derived from a symmetric perspective frustum)",
-                     lh + "Radar Approach - Testing Points, Implementation (pc.z = v.Z reading)",
-                     Claim::exact, kPointKind, "a point on the boundary is inside (strict > / < reject)",
-                     kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       const auto cam = radar_camera_from_frustum(f.planes);
-                       if (!cam) return std::nullopt;
-                       return radar_point(*cam, std::get<Point>(v));
-                     }));
+  out.push_back(make_method(
+      describe("point-plane", published)
+          .as("point against the six planes, outside on the first plane < 0")
+          .from(lh + "Geometric Approach - Testing Points and Spheres (pointInFrustum)")
+          .claims(Claim::exact, kDirectTol)
+          .on(kPointKind)
+          .touching("a point on a plane is inside (distance < 0 rejects)"),
+      planes, [](const Frustum& f, const Point& p) { return point_plane_test(f, p); }));
+  out.push_back(make_method(
+      describe("radar-point", published)
+          .as("radar test in camera coordinates (camera derived from a symmetric perspective frustum)")
+          .from(lh + "Radar Approach - Testing Points, Implementation (pc.z = v.Z reading)")
+          .claims(Claim::exact, kDerivedTol)
+          .on(kPointKind)
+          .touching("a point on the boundary is inside (strict > / < reject)"),
+      [](const CaseFrustum& f) { return radar(f, false); },
+      [](const RadarCamera& c, const Point& p) { return radar_point(c, p); }));
   // ---- spheres
-  out.push_back(make("sphere-plane", "sphere against the normalised planes: d < -r outside, d < r intersecting",
-                     lh + "Geometric Approach - Testing Points and Spheres (sphereInFrustum)",
-                     Claim::conservative, kSphereKind,
-                     "touching from outside (d == -r) intersecting; touching from inside (d == r) inside",
-                     kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       return sphere_plane_test(f.planes.normalized(), std::get<Sphere>(v));
-                     }));
-  out.push_back(own(make("radar-sphere", "radar sphere test with sphere factors 1/cos(half fov) (corrected)",
-                     lh + "Radar Approach - Testing Spheres, Implementation II, with tan(fov/2)",
-                     Claim::conservative, kSphereKind, "touching a bound from outside is intersecting (strict compares)",
-                     kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       const auto cam = radar_camera_from_frustum(f.planes);
-                       if (!cam) return std::nullopt;
-                       return radar_sphere(*cam, std::get<Sphere>(v));
-                     })));
-  out.push_back(make("radar-sphere-as-published", "radar sphere test as published: tang = tan(fov), 1/cos(fov) (full angle)",
-                     lh + "Radar Approach - Implementation II (setCamInternals as printed)",
-                     Claim::none, kSphereKind, "touching a bound from outside is intersecting (strict compares)",
-                     0.0, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       const auto cam = radar_camera_from_frustum(f.planes, true);
-                       if (!cam) return std::nullopt;
-                       return radar_sphere(*cam, std::get<Sphere>(v));
-                     }));
-  out.push_back(own(make("sphere-batch-simd", "SoA SIMD batch sphere test (Highway, runtime dispatch), one full word of 64 copies",
-                     lh + "sphereInFrustum; batch form of sphere-plane",
-                     Claim::conservative, kSphereKind, "as sphere-plane (bit-for-bit the same verdicts)",
-                     kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       return batch_sphere(f.planes.normalized(), std::get<Sphere>(v));
-                     })));
+  out.push_back(make_method(
+      describe("sphere-plane", published)
+          .as("sphere against the normalised planes: d < -r outside, d < r intersecting")
+          .from(lh + "Geometric Approach - Testing Points and Spheres (sphereInFrustum)")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kSphereKind)
+          .touching("touching from outside (d == -r) intersecting; touching from inside (d == r) inside"),
+      normalized, [](const Frustum& f, const Sphere& s) { return sphere_plane_test(f, s); }));
+  out.push_back(make_method(
+      describe("radar-sphere", own)
+          .as("radar sphere test with sphere factors 1/cos(half fov) (corrected)")
+          .from(lh + "Radar Approach - Testing Spheres, Implementation II, with tan(fov/2)")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kSphereKind)
+          .touching("touching a bound from outside is intersecting (strict compares)"),
+      [](const CaseFrustum& f) { return radar(f, false); },
+      [](const RadarCamera& c, const Sphere& s) { return radar_sphere(c, s); }));
+  out.push_back(make_method(
+      describe("radar-sphere-as-published", published)
+          .as("radar sphere test as published: tang = tan(fov), 1/cos(fov) (full angle)")
+          .from(lh + "Radar Approach - Implementation II (setCamInternals as printed)")
+          .claims(Claim::none, 0.0)
+          .on(kSphereKind)
+          .touching("touching a bound from outside is intersecting (strict compares)"),
+      [](const CaseFrustum& f) { return radar(f, true); },
+      [](const RadarCamera& c, const Sphere& s) { return radar_sphere(c, s); }));
+  out.push_back(make_method(
+      describe("sphere-batch-simd", own)
+          .as("SoA SIMD batch sphere test (Highway, runtime dispatch); one volume runs as a full word of 64 copies")
+          .from(lh + "sphereInFrustum; batch form of sphere-plane")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kSphereKind)
+          .touching("as sphere-plane (bit-for-bit the same verdicts)"),
+      normalized, [](const Frustum& f, const Sphere& s) { return sphere_as_word(s, sphere_kernel(f)); },
+      [](const Frustum& f, const Sphere* s, std::size_t n, Visibility* v) { sphere_batch(s, n, v, sphere_kernel(f)); }));
   // ---- AABBs
-  out.push_back(make("eight-corner", "8 corners counted per plane; outside when all 8 are out of one plane",
-                     lh + "Geometric Approach - Testing Boxes (boxInFrustum)", Claim::conservative, kAabbKind,
-                     "a corner with distance 0 counts as in: touching from outside is intersecting, from inside inside",
-                     kDirectTol, false, on_aabb(aabb_eight_corner)));
-  out.push_back(make("pn-vertex", "n/p-vertex test with per-box sign selection (fig. 4)",
-                     am + "§3.1, fig. 4", Claim::conservative, kAabbKind, kTouchPn, kDirectTol, false,
-                     on_aabb(pn_vertex)));
-  out.push_back(own(make("pn-vertex-index", "n/p-vertex test with the branch-free min/max index trick, three-way",
-                     "p-vertex blog post (View frustum culling, AABB vs Frustum), Implementation; three-way as A&M §3.1",
-                     Claim::conservative, kAabbKind, kTouchPn, kDirectTol, false, on_aabb(pn_vertex_index))));
-  out.push_back(make("p-vertex-post", "the p-vertex post as published: p-vertex only, dp < -d rejects, never inside",
-                     "p-vertex blog post (View frustum culling, AABB vs Frustum), intersectFrustumAABB",
-                     Claim::conservative, kAabbKind,
-                     "dp == -d is not rejected: touching from outside is intersecting; never answers inside",
-                     kDirectTol, false, on_aabb(p_vertex_post)));
-  out.push_back(make("pn-vertex-lut", "n/p-vertex test with the sign bitfields precomputed once per frame",
-                     am + "§3.1 (LUT, precomputed per frame) and §4", Claim::conservative, kAabbKind, kTouchPn,
-                     kDirectTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       return pn_vertex_lut(make_pn_lut(f.planes), std::get<Aabb>(v));
-                     }));
-  out.push_back(own(make("pn-vertex-batch-simd", "SoA SIMD batch n/p-vertex test (Highway, runtime dispatch), one full word of 64 copies",
-                     am + "§3.1, batch form with the min/max choice hoisted per plane", Claim::conservative,
-                     kAabbKind, std::string(kTouchPn) + " (bit-for-bit pn-vertex)", kDirectTol, false,
-                     on_aabb(batch_aabb))));
-  out.push_back(make("perspective-transform-as-published",
-                     "DirectModel baseline: corners to clip space, divide by w, NDC AABB vs cube (w <= 0 not handled)",
-                     am + "§2 and fig. 1 (DirectModel)", Claim::none, kAabbKind,
-                     "strict rejection in NDC: touching from outside intersecting (when all w > 0)",
-                     0.0, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       DepthConvention depth;
-                       const auto m = case_matrix(f, depth);
-                       if (!m) return std::nullopt;
-                       return perspective_transform_as_published(*m, depth, std::get<Aabb>(v));
-                     }));
-  out.push_back(own(make("perspective-transform",
-                     "DirectModel baseline corrected: NDC AABB when all w > 0, homogeneous outcodes otherwise",
-                     // Claim none: conservative in exact arithmetic, but the float clip transform and the
-                     // division by w carry errors no tolerance of the plane model bounds; the oracle
-                     // found false rejects far beyond it on extreme-fov and corner cases (corpus/
-                     // perspective-transform/). It stays the Table 1 baseline, measured, not trusted.
-                     am + "§2 and fig. 1 (DirectModel), corrected for corners behind the eye", Claim::none,
-                     kAabbKind, "strict rejection (hi < -1, w + x < 0): touching from outside intersecting",
-                     kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       DepthConvention depth;
-                       const auto m = case_matrix(f, depth);
-                       if (!m) return std::nullopt;
-                       return perspective_transform(*m, depth, std::get<Aabb>(v));
-                     })));
+  out.push_back(make_method(
+      describe("eight-corner", published)
+          .as("8 corners counted per plane; outside when all 8 are out of one plane")
+          .from(lh + "Geometric Approach - Testing Boxes (boxInFrustum)")
+          .claims(Claim::conservative, kDirectTol)
+          .on(kAabbKind)
+          .touching("a corner with distance 0 counts as in: touching from outside is intersecting, from inside inside"),
+      planes, [](const Frustum& f, const Aabb& b) { return aabb_eight_corner(f, b); }));
+  out.push_back(make_method(
+      describe("pn-vertex", published)
+          .as("n/p-vertex test with per-box sign selection (fig. 4)")
+          .from(am + "§3.1, fig. 4")
+          .claims(Claim::conservative, kDirectTol)
+          .on(kAabbKind)
+          .touching(kTouchPn),
+      planes, [](const Frustum& f, const Aabb& b) { return pn_vertex(f, b); }));
+  out.push_back(make_method(
+      describe("pn-vertex-index", own)
+          .as("n/p-vertex test with the branch-free min/max index trick, three-way")
+          .from("p-vertex blog post (View frustum culling, AABB vs Frustum), Implementation; three-way as A&M §3.1")
+          .claims(Claim::conservative, kDirectTol)
+          .on(kAabbKind)
+          .touching(kTouchPn),
+      planes, [](const Frustum& f, const Aabb& b) { return pn_vertex_index(f, b); }));
+  out.push_back(make_method(
+      describe("p-vertex-post", published)
+          .as("the p-vertex post as published: p-vertex only, dp < -d rejects, never inside")
+          .from("p-vertex blog post (View frustum culling, AABB vs Frustum), intersectFrustumAABB")
+          .claims(Claim::conservative, kDirectTol)
+          .on(kAabbKind)
+          .touching("dp == -d is not rejected: touching from outside is intersecting; never answers inside")
+          .two_way(),
+      planes, [](const Frustum& f, const Aabb& b) { return p_vertex_post(f, b); }));
+  out.push_back(make_method(
+      describe("pn-vertex-lut", published)
+          .as("n/p-vertex test with the sign bitfields precomputed once per frame")
+          .from(am + "§3.1 (LUT, precomputed per frame) and §4")
+          .claims(Claim::conservative, kDirectTol)
+          .on(kAabbKind)
+          .touching(kTouchPn),
+      [](const CaseFrustum& f) { return make_pn_lut(f.planes); },
+      [](const PnLut& lut, const Aabb& b) { return pn_vertex_lut(lut, b); }));
+  out.push_back(make_method(
+      describe("pn-vertex-batch-simd", own)
+          .as("SoA SIMD batch n/p-vertex test (Highway, runtime dispatch); one volume runs as a full word of 64 copies")
+          .from(am + "§3.1, batch form with the min/max choice hoisted per plane")
+          .claims(Claim::conservative, kDirectTol)
+          .on(kAabbKind)
+          .touching(std::string(kTouchPn) + " (bit-for-bit pn-vertex)"),
+      planes, [](const Frustum& f, const Aabb& b) { return aabb_as_word(b, aabb_kernel(f)); },
+      [](const Frustum& f, const Aabb* b, std::size_t n, Visibility* v) { aabb_batch(b, n, v, aabb_kernel(f)); }));
+  out.push_back(make_method(
+      describe("perspective-transform-as-published", published)
+          .as("DirectModel baseline: corners to clip space, divide by w, NDC AABB vs cube (w <= 0 not handled)")
+          .from(am + "§2 and fig. 1 (DirectModel)")
+          .claims(Claim::none, 0.0)
+          .on(kAabbKind)
+          .touching("strict rejection in NDC: touching from outside intersecting (when all w > 0)"),
+      case_matrix,
+      [](const ClipMatrix& c, const Aabb& b) { return perspective_transform_as_published(c.m, c.depth, b); }));
+  out.push_back(make_method(
+      describe("perspective-transform", own)
+          .as("DirectModel baseline corrected: NDC AABB when all w > 0, homogeneous outcodes otherwise")
+          // Claim none: conservative in exact arithmetic, but the float clip transform and the
+          // division by w carry errors no tolerance of the plane model bounds; the oracle found
+          // false rejects far beyond it on extreme-fov and corner cases (corpus/
+          // perspective-transform/). It stays the Table 1 baseline, measured, not trusted.
+          .from(am + "§2 and fig. 1 (DirectModel), corrected for corners behind the eye")
+          .claims(Claim::none, kDerivedTol)
+          .on(kAabbKind)
+          .touching("strict rejection (hi < -1, w + x < 0): touching from outside intersecting"),
+      case_matrix, [](const ClipMatrix& c, const Aabb& b) { return perspective_transform(c.m, c.depth, b); }));
   // ---- OBBs
-  out.push_back(make("obb-pn-vertex", "n/p-vertex test with the plane normal projected on the box axes",
-                     am + "§3.1; " + lh + "Geometric Approach - Testing Boxes II", Claim::conservative,
-                     kObbKind | kAabbKind, kTouchPn, kDerivedTol, false,
-                     [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       if (const Aabb* b = std::get_if<Aabb>(&v)) return obb_pn_vertex(f.planes, to_obb(*b));
-                       return obb_pn_vertex(f.planes, std::get<Obb>(v));
-                     }));
+  out.push_back(make_method(
+      describe("obb-pn-vertex", published)
+          .as("n/p-vertex test with the plane normal projected on the box axes")
+          .from(am + "§3.1; " + lh + "Geometric Approach - Testing Boxes II")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kObbKind | kAabbKind)
+          .touching(kTouchPn),
+      planes,
+      overload{[](const Frustum& f, const Aabb& b) { return obb_pn_vertex(f, to_obb(b)); },
+               [](const Frustum& f, const Obb& b) { return obb_pn_vertex(f, b); }}));
   // ---- pre-test stages in front of pn-vertex
   const std::string notes = lh + "Some Notes and Possible Optimizations, ";
-  out.push_back(make("box-sphere-then-pn-vertex", "box's bounding sphere first; when it straddles, the n/p-vertex test",
-                     notes + "Spheres as Bounding Volumes for Boxes (case C: test the box)", Claim::conservative,
-                     kAabbKind, std::string("sphere stage: touching sphere falls through; then ") + kTouchPn,
-                     kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       const Aabb& b = std::get<Aabb>(v);
-                       if (auto r = box_sphere_stage(f.planes.normalized(), b)) return *r;
-                       return pn_vertex(f.planes, b);
-                     }));
-  out.push_back(make("box-sphere-only", "box's bounding sphere only; a straddling sphere means intersecting",
-                     notes + "Spheres as Bounding Volumes for Boxes (case C: consider that the box intersects)",
-                     Claim::conservative, kAabbKind, "a touching sphere (hence box) is intersecting",
-                     kDerivedTol, false, [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       if (auto r = box_sphere_stage(f.planes.normalized(), std::get<Aabb>(v))) return *r;
-                       return Visibility::intersecting;
-                     }));
-  out.push_back(make("frustum-sphere-then-pn-vertex", "frustum's bounding sphere vs box's sphere first, then n/p-vertex",
-                     notes + "Spheres everywhere", Claim::conservative, kAabbKind,
-                     std::string("touching spheres fall through; then ") + kTouchPn, kDerivedTol, false,
-                     [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       const Aabb& b = std::get<Aabb>(v);
-                       if (auto r = frustum_sphere_stage(frustum_bounds(f.planes), b)) return *r;
-                       return pn_vertex(f.planes, b);
-                     }));
-  out.push_back(make("frustum-aabb-then-pn-vertex", "frustum's AABB vs the box first, then n/p-vertex",
-                     notes + "Axis-Aligned Boxes everywhere", Claim::conservative, kAabbKind,
-                     std::string("strict compares, a touching box falls through; then ") + kTouchPn, kDerivedTol, false,
-                     [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       const Aabb& b = std::get<Aabb>(v);
-                       if (auto r = frustum_aabb_stage(frustum_bounds(f.planes), b)) return *r;
-                       return pn_vertex(f.planes, b);
-                     }));
-  // ---- frame coherence (fresh state per case)
-  out.push_back(make("plane-coherency", "n/p-vertex test starting at the plane that rejected the box last frame",
-                     am + "§3.2", Claim::conservative, kAabbKind, kTouchPn, kDirectTol, true,
-                     [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       PlaneCoherencyCache cache;
-                       return plane_coherency_test(f.planes, std::get<Aabb>(v), cache);
-                     }));
-  out.push_back(make("octant", "octant test as published: three outer planes when d2 <= d1 (symmetric frusta only)",
-                     am + "§3.3, fig. 5 and 6", Claim::conservative, kAabbKind, kTouchPn, kDerivedTol, true,
-                     [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       if (!is_bounded(f.planes) || !is_symmetric(f.planes, 1e-5)) return std::nullopt;
-                       return OctantCuller(f.planes).classify(std::get<Aabb>(v));
-                     }));
-  out.push_back(own(make("octant-corrected", "octant test; inside only via the bounding sphere or the inner planes",
-                     am + "§3.3, corrected inside rule", Claim::conservative, kAabbKind, kTouchPn, kDerivedTol, true,
-                     [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       if (!is_bounded(f.planes) || !is_symmetric(f.planes, 1e-5)) return std::nullopt;
-                       return OctantCuller(f.planes).classify_corrected(std::get<Aabb>(v));
-                     })));
-  out.push_back(make("tr-coherency", "translation/rotation coherency; first frame is a full six-plane test",
-                     am + "§3.5, fig. 7", Claim::conservative, kAabbKind, kTouchPn, kDerivedTol, true,
-                     [](const CaseFrustum& f, const Volume& v) -> std::optional<Visibility> {
-                       TrCoherencyCuller culler;
-                       culler.begin_frame(f.planes);
-                       TrObjectState st;
-                       return culler.classify(std::get<Aabb>(v), st);
-                     }));
+  out.push_back(make_method(
+      describe("box-sphere-then-pn-vertex", published)
+          .as("box's bounding sphere first; when it straddles, the n/p-vertex test")
+          .from(notes + "Spheres as Bounding Volumes for Boxes (case C: test the box)")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kAabbKind)
+          .touching(std::string("sphere stage: touching sphere falls through; then ") + kTouchPn),
+      [](const CaseFrustum& f) { return PlanesAndNormalized{f.planes, f.planes.normalized()}; },
+      [](const PlanesAndNormalized& p, const Aabb& b) {
+        if (auto r = box_sphere_stage(p.normalized, b)) return *r;
+        return pn_vertex(p.planes, b);
+      }));
+  out.push_back(make_method(
+      describe("box-sphere-only", published)
+          .as("box's bounding sphere only; a straddling sphere means intersecting")
+          .from(notes + "Spheres as Bounding Volumes for Boxes (case C: consider that the box intersects)")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kAabbKind)
+          .touching("a touching sphere (hence box) is intersecting"),
+      normalized, [](const Frustum& f, const Aabb& b) {
+        if (auto r = box_sphere_stage(f, b)) return *r;
+        return Visibility::intersecting;
+      }));
+  out.push_back(make_method(
+      describe("frustum-sphere-then-pn-vertex", published)
+          .as("frustum's bounding sphere vs box's sphere first, then n/p-vertex")
+          .from(notes + "Spheres everywhere")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kAabbKind)
+          .touching(std::string("touching spheres fall through; then ") + kTouchPn),
+      planes_and_bounds, [](const PlanesAndBounds& p, const Aabb& b) {
+        if (auto r = frustum_sphere_stage(p.bounds, b)) return *r;
+        return pn_vertex(p.planes, b);
+      }));
+  out.push_back(make_method(
+      describe("frustum-aabb-then-pn-vertex", published)
+          .as("frustum's AABB vs the box first, then n/p-vertex")
+          .from(notes + "Axis-Aligned Boxes everywhere")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kAabbKind)
+          .touching(std::string("strict compares, a touching box falls through; then ") + kTouchPn),
+      planes_and_bounds, [](const PlanesAndBounds& p, const Aabb& b) {
+        if (auto r = frustum_aabb_stage(p.bounds, b)) return *r;
+        return pn_vertex(p.planes, b);
+      }));
+  // ---- frame coherence: each volume is classified as a new object (its first frame)
+  out.push_back(make_method(
+      describe("plane-coherency", published)
+          .as("n/p-vertex test starting at the plane that rejected the box last frame")
+          .from(am + "§3.2")
+          .claims(Claim::conservative, kDirectTol)
+          .on(kAabbKind)
+          .touching(kTouchPn)
+          .stateful(),
+      planes, [](const Frustum& f, const Aabb& b) {
+        PlaneCoherencyCache cache;
+        return plane_coherency_test(f, b, cache);
+      }));
+  out.push_back(make_method(
+      describe("octant", published)
+          .as("octant test as published: three outer planes when d2 <= d1 (symmetric frusta only)")
+          .from(am + "§3.3, fig. 5 and 6")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kAabbKind)
+          .touching(kTouchPn)
+          .stateful(),
+      octant_culler, [](const OctantCuller& c, const Aabb& b) { return c.classify(b); }));
+  out.push_back(make_method(
+      describe("octant-corrected", own)
+          .as("octant test; inside only via the bounding sphere or the inner planes")
+          .from(am + "§3.3, corrected inside rule")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kAabbKind)
+          .touching(kTouchPn)
+          .stateful(),
+      octant_culler, [](const OctantCuller& c, const Aabb& b) { return c.classify_corrected(b); }));
+  out.push_back(make_method(
+      describe("tr-coherency", published)
+          .as("translation/rotation coherency; first frame is a full six-plane test")
+          .from(am + "§3.5, fig. 7")
+          .claims(Claim::conservative, kDerivedTol)
+          .on(kAabbKind)
+          .touching(kTouchPn)
+          .stateful(),
+      [](const CaseFrustum& f) {
+        TrCoherencyCuller culler;
+        culler.begin_frame(f.planes);
+        return culler;
+      },
+      [](TrCoherencyCuller& culler, const Aabb& b) {
+        TrObjectState st;  // a new object: its first test is a full test
+        return culler.classify(b, st);
+      }));
 }
 
 }  // namespace cullproof::detail

@@ -154,7 +154,7 @@ RC_GTEST_PROP(CullProperty, NoConservativeMethodRejectsAVolumeWithAPointClearlyI
   RC_CLASSIFY(m > 1e-4 * size, "clear margin");
   if (!(m > 1e-4 * size)) return;
   const Volume v = volume_around(p, size, *rc::gen::inRange(0, 4));
-  for (const Method& method : methods()) {
+  for (const Method& method : builtin_methods()) {
     if (method.claim != Claim::conservative && method.claim != Claim::exact) continue;
     if (!method.takes(v)) continue;
     const auto verdict = method.classify(g.spec, v);

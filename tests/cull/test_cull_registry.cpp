@@ -21,7 +21,7 @@ const std::vector<std::string> kNames = {
 
 TEST(CullRegistry, EveryMethodIsRegisteredWithItsMetadata) {
   for (const auto& n : kNames) {
-    const Method* m = find_method(n);
+    const Method* m = find_builtin(n);
     ASSERT_NE(m, nullptr) << n;
     EXPECT_FALSE(m->source.empty()) << n;
     EXPECT_FALSE(m->touching.empty()) << n;
@@ -29,17 +29,17 @@ TEST(CullRegistry, EveryMethodIsRegisteredWithItsMetadata) {
     for (char c : m->name) EXPECT_TRUE((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-') << n;
   }
   for (const char* s : {"plane-coherency", "octant", "octant-corrected", "tr-coherency"})
-    EXPECT_TRUE(find_method(s)->stateful) << s;
-  EXPECT_EQ(find_method("radar-sphere-as-published")->claim, Claim::none);
-  EXPECT_EQ(find_method("perspective-transform-as-published")->claim, Claim::none);
-  EXPECT_EQ(find_method("point-plane")->claim, Claim::exact);
+    EXPECT_TRUE(find_builtin(s)->stateful) << s;
+  EXPECT_EQ(find_builtin("radar-sphere-as-published")->claim, Claim::none);
+  EXPECT_EQ(find_builtin("perspective-transform-as-published")->claim, Claim::none);
+  EXPECT_EQ(find_builtin("point-plane")->claim, Claim::exact);
   // cullproof's own variants are not "published methods under test".
   for (const char* s : {"radar-sphere", "perspective-transform", "octant-corrected", "pn-vertex-index",
                         "pn-vertex-batch-simd", "sphere-batch-simd"})
-    EXPECT_FALSE(find_method(s)->published) << s;
+    EXPECT_NE(find_builtin(s)->origin, Origin::published) << s;
   for (const char* s : {"pn-vertex", "octant", "radar-sphere-as-published", "perspective-transform-as-published",
                         "eight-corner", "p-vertex-post", "tr-coherency"})
-    EXPECT_TRUE(find_method(s)->published) << s;
+    EXPECT_EQ(find_builtin(s)->origin, Origin::published) << s;
 }
 
 struct Case {
@@ -81,7 +81,7 @@ bool two_way(const std::string& name) { return name == "p-vertex-post" || name =
 
 TEST(CullRegistry, EveryMethodOnHandCasesOfItsKinds) {
   for (const auto& n : kNames) {
-    const Method& m = *find_method(n);
+    const Method& m = *find_builtin(n);
     int run = 0;
     for (const Case& c : cases()) {
       if (!m.takes(c.volume)) continue;
@@ -108,12 +108,12 @@ TEST(CullRegistry, EveryMethodOnHandCasesOfItsKinds) {
 TEST(CullRegistry, MethodsThatNeedASymmetricFrustumDoNotApplyToAnAsymmetricOne) {
   const CaseFrustum f = frustum_spec(test::off_axis());
   for (const char* n : {"octant", "octant-corrected"})
-    EXPECT_FALSE(find_method(n)->classify(f, test::inside_box()).has_value()) << n;
-  EXPECT_FALSE(find_method("radar-point")->classify(f, Point{0, 0, -5}).has_value());
-  EXPECT_FALSE(find_method("radar-sphere")->classify(f, Sphere{{0, 0, -5}, 1}).has_value());
+    EXPECT_FALSE(find_builtin(n)->classify(f, test::inside_box()).has_value()) << n;
+  EXPECT_FALSE(find_builtin("radar-point")->classify(f, Point{0, 0, -5}).has_value());
+  EXPECT_FALSE(find_builtin("radar-sphere")->classify(f, Sphere{{0, 0, -5}, 1}).has_value());
   // Everything else applies.
-  EXPECT_TRUE(find_method("tr-coherency")->classify(f, test::inside_box()).has_value());
-  EXPECT_TRUE(find_method("perspective-transform")->classify(f, test::inside_box()).has_value());
+  EXPECT_TRUE(find_builtin("tr-coherency")->classify(f, test::inside_box()).has_value());
+  EXPECT_TRUE(find_builtin("perspective-transform")->classify(f, test::inside_box()).has_value());
 }
 
 }  // namespace

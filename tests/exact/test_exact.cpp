@@ -173,18 +173,18 @@ TEST(Sat, AgreesWithHoffExactOnRotatedBoxesAroundAnEdge) {
 
 TEST(Registry, ExactFamilyIsRegisteredWithClaimsAndSources) {
   for (const char* name : {"hoff96", "hoff-exact", "sat-exact", "pn-vertex-reverse"}) {
-    const Method* m = find_method(name);
+    const Method* m = find_builtin(name);
     ASSERT_NE(m, nullptr) << name;
     EXPECT_FALSE(m->source.empty());
     EXPECT_FALSE(m->touching.empty());
     EXPECT_TRUE(m->takes(Volume{Aabb{}}));
     EXPECT_FALSE(m->takes(Volume{Sphere{}}));
   }
-  EXPECT_EQ(find_method("hoff96")->claim, Claim::exact);
-  EXPECT_EQ(find_method("pn-vertex-reverse")->claim, Claim::conservative);
+  EXPECT_EQ(find_builtin("hoff96")->claim, Claim::exact);
+  EXPECT_EQ(find_builtin("pn-vertex-reverse")->claim, Claim::conservative);
   // hoff96 does not apply to an orthographic frustum (no centre of projection).
   const CaseFrustum ortho = frustum_spec(orthographic_projection(-1, 1, -1, 1, 1, 3), {});
-  EXPECT_FALSE(find_method("hoff96")->classify(ortho, Volume{Aabb{{0, 0, -2}, {0, 0, -2}}}).has_value());
+  EXPECT_FALSE(find_builtin("hoff96")->classify(ortho, Volume{Aabb{{0, 0, -2}, {0, 0, -2}}}).has_value());
 }
 
 #ifdef CULLPROOF_TEST_ORACLE

@@ -25,8 +25,8 @@ const std::set<std::string>& refuted_in_corpus() {
     std::set<std::string> out;
     for (const CorpusEntry& e : load_corpus(CULLPROOF_CORPUS_DIR)) {
       const auto v = e.c.extra.find("violates_claim");
-      const Method* m = find_method(e.method);
-      if (m && m->published && v != e.c.extra.end() && v->is_boolean() && v->get<bool>()) out.insert(e.method);
+      const Method* m = find_builtin(e.method);
+      if (m && m->origin == Origin::published && v != e.c.extra.end() && v->is_boolean() && v->get<bool>()) out.insert(e.method);
     }
     return out;
   }();
@@ -42,11 +42,11 @@ TEST_P(Claims, HoldAgainstTheOracle) {
   const bool ok = rc::check(std::string("claims hold on ") + std::string(gen::to_string(d)), [&] {
     const gen::GenCase g = *gen::case_of(d);
     const Visibility truth = oracle::truth(g.frustum, g.volume);
-    for (const Method& m : methods()) {
+    for (const Method& m : builtin_methods()) {
       if (!m.takes(g.volume)) continue;
       const auto v = m.classify(g.frustum, g.volume);
       if (!v) continue;
-      const ErrorClass cls = error_class(*v, truth);
+      const ErrorClass cls = error_class(*v, truth, m.three_way);
       if (cls == ErrorClass::correct || m.claim == Claim::none) continue;
       const oracle::Result r = oracle::classify(g.frustum, g.volume, {true, true, false});
       const double scale = gen::case_scale(g.frustum, g.volume);

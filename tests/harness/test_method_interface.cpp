@@ -1,0 +1,272 @@
+// The method interface as a user meets it: make_method in its forms, what it deduces and refuses,
+// a user's culler verified beside a built-in one (a correct one holds its claim, a planted bug is
+// refuted and fails the run), two-way methods, stateful methods, and methods that fault.
+#include <gtest/gtest.h>
+
+#include "cullproof/campaign.hpp"
+#include "cullproof/case_io.hpp"
+#include "cullproof/corpus.hpp"
+#include "cullproof/cull.hpp"
+#include "cullproof/methods.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <memory>
+
+namespace cullproof {
+namespace {
+
+using V = Visibility;
+
+// A user's n/p-vertex test written from scratch: planes in prepare, three-way classify.
+struct UserPlanes {
+  Frustum f;
+};
+Visibility user_pn(const UserPlanes& s, const Aabb& b, bool bug) {
+  bool inside = true;
+  for (const Plane& p : s.f.planes) {
+    glm::vec3 pv, nv;
+    for (int i = 0; i < 3; ++i) {
+      pv[i] = p.n[i] >= 0 ? b.max[i] : b.min[i];
+      nv[i] = p.n[i] >= 0 ? b.min[i] : b.max[i];
+    }
+    if (bug) pv.y = b.min.y;  // the p-vertex's y from the wrong corner
+    if (p.eval(pv) < 0) return V::outside;
+    if (p.eval(nv) < 0) inside = false;
+  }
+  return inside ? V::inside : V::intersecting;
+}
+
+Method user_method(bool bug) {
+  MethodInfo info;
+  info.name = bug ? "user-pn-bug" : "user-pn";
+  info.claim = Claim::conservative;
+  info.tolerance = 1e-6;
+  return make_method(
+      info, [](const CaseFrustum& f) { return UserPlanes{f.planes}; },
+      [bug](const UserPlanes& s, const Aabb& b) { return user_pn(s, b, bug); });
+}
+
+VerifyOptions small_run(std::uint64_t cases) {
+  VerifyOptions o;
+  o.cases = cases;
+  o.seed = 5;
+  o.distributions = {gen::Distribution::near_boundary, gen::Distribution::corner};
+  o.threads = 2;
+  o.progress = false;
+  o.timing = false;
+  return o;
+}
+
+std::filesystem::path temp_dir(const std::string& what) {
+  const auto d = std::filesystem::temp_directory_path() / ("cullproof-" + what + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(d);
+  return d;
+}
+
+TEST(MethodInterface, MakeMethodDeducesKindsAndDefaultsToAUserMethod) {
+  const Method m = user_method(false);
+  EXPECT_EQ(m.volumes, unsigned(kAabbKind));
+  EXPECT_EQ(m.origin, Origin::user);
+  EXPECT_TRUE(m.three_way);
+  EXPECT_FALSE(m.has_batch());
+  const CaseFrustum f = frustum_spec(frustum_from_matrix(off_axis_projection(-1, 1, -1, 1, 1, 10)));
+  EXPECT_EQ(m.classify(f, Aabb{{-0.1f, -0.1f, -3}, {0.1f, 0.1f, -2}}), V::inside);
+  EXPECT_EQ(m.classify(f, Aabb{{-0.1f, -0.1f, 1}, {0.1f, 0.1f, 2}}), V::outside);
+}
+
+TEST(MethodInterface, RefusesADeclaredKindItsClassifyDoesNotTake) {
+  MethodInfo info;
+  info.name = "boxes-only";
+  info.volumes = kAabbKind | kSphereKind;
+  try {
+    make_method(info, [](const CaseFrustum& f) { return f.planes; }, [](const Frustum&, const Aabb&) { return V::intersecting; });
+    FAIL() << "accepted a sphere kind the classify does not take";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("boxes-only"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("sphere"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MethodInterface, OnePhaseVolumeAndBoolForms) {
+  MethodInfo info;
+  info.name = "one-phase-two-way";
+  // One phase, taking any Volume, answering visible / not visible.
+  const Method m = make_method(info, [](const CaseFrustum& f, const Volume& v) {
+    return !std::holds_alternative<Point>(v) || f.planes[kNear].eval(std::get<Point>(v)) >= 0;
+  });
+  EXPECT_EQ(m.volumes, unsigned(kPointKind | kSphereKind | kAabbKind | kObbKind));
+  EXPECT_FALSE(m.three_way) << "a bool answer is two-way";
+  const CaseFrustum f = frustum_spec(frustum_from_matrix(off_axis_projection(-1, 1, -1, 1, 1, 10)));
+  EXPECT_EQ(m.classify(f, Point{0, 0, -5}), V::intersecting);
+  EXPECT_EQ(m.classify(f, Point{0, 0, 5}), V::outside);
+}
+
+TEST(MethodInterface, TwoWayIsNotChargedWithUnderInsides) {
+  EXPECT_EQ(error_class(V::intersecting, V::inside, /*three_way=*/false), ErrorClass::correct);
+  EXPECT_EQ(error_class(V::intersecting, V::inside, /*three_way=*/true), ErrorClass::under_inside);
+  EXPECT_EQ(error_class(V::outside, V::inside, false), ErrorClass::false_reject);
+  EXPECT_EQ(error_class(V::intersecting, V::outside, false), ErrorClass::false_intersect);
+}
+
+TEST(MethodInterface, ABatchFormGivesTheSameAnswersAsItsClassify) {
+  MethodInfo info;
+  info.name = "user-batch";
+  std::atomic<int> batch_calls{0};
+  const Method m = make_method(
+      info, [](const CaseFrustum& f) { return UserPlanes{f.planes}; },
+      [](const UserPlanes& s, const Aabb& b) { return user_pn(s, b, false); },
+      [&batch_calls](const UserPlanes& s, const Aabb* b, std::size_t n, Visibility* out) {
+        ++batch_calls;
+        for (std::size_t i = 0; i < n; ++i) out[i] = user_pn(s, b[i], false);
+      });
+  EXPECT_TRUE(m.has_batch());
+  const gen::Frame fr = gen::draw_frame(gen::Distribution::near_boundary, 3, 0, 600, kAabbKind);
+  ASSERT_EQ(fr.volumes.size(), 600u);
+  std::vector<Aabb> boxes;
+  for (const Volume& v : fr.volumes) boxes.push_back(std::get<Aabb>(v));
+  const auto p = m.prepare(fr.frustum);
+  std::vector<Answer> out(boxes.size());
+  p->classify_batch(boxes.data(), boxes.size(), out.data());
+  EXPECT_EQ(batch_calls.load(), 3) << "600 volumes in chunks of 256";
+  for (std::size_t i = 0; i < boxes.size(); ++i) EXPECT_EQ(out[i], p->classify(fr.volumes[i])) << i;
+}
+
+TEST(MethodInterface, AUserCullerBesideABuiltInOne) {
+  std::vector<Method> ms = {user_method(false), *find_builtin("pn-vertex")};
+  const VerifyResult r = run_verify(small_run(1500), ms);
+  ASSERT_EQ(r.distributions.size(), 2u);
+  for (const auto& d : r.distributions) {
+    ASSERT_EQ(d.methods.size(), 2u);
+    const MethodStats& user = d.methods[0];
+    const MethodStats& builtin = d.methods[1];
+    EXPECT_EQ(user.method, "user-pn");
+    EXPECT_EQ(user.origin, Origin::user);
+    EXPECT_FALSE(user.refuted());
+    // The same test written twice: the oracle counts the same errors.
+    EXPECT_EQ(user.false_intersect, builtin.false_intersect);
+    EXPECT_EQ(user.false_reject, builtin.false_reject);
+  }
+  EXPECT_FALSE(r.claim_broken());
+}
+
+TEST(MethodInterface, APlantedBugIsRefutedFailsTheRunAndIsWrittenToTheCorpus) {
+  const auto dir = temp_dir("planted");
+  VerifyOptions o = small_run(1500);
+  o.corpus = dir;
+  const VerifyResult r = run_verify(o, {user_method(true)});
+  std::uint64_t violations = 0;
+  for (const auto& d : r.distributions) violations += d.methods[0].claim_violations;
+  EXPECT_GT(violations, 0u);
+  EXPECT_TRUE(r.claim_broken()) << "a user's refuted claim fails the run";
+  const auto entries = load_corpus(dir);
+  ASSERT_FALSE(entries.empty());
+  for (const CorpusEntry& e : entries) {
+    EXPECT_EQ(e.method, "user-pn-bug");
+    EXPECT_EQ(e.c.extra.at("origin"), "user");
+    const ReplayResult rr = replay(e, {user_method(true)});
+    EXPECT_TRUE(rr.reproduces) << e.file;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+void expect_fault(const Method& m, const std::string& says) {
+  const auto dir = temp_dir("fault");
+  VerifyOptions o = small_run(200);
+  o.corpus = dir;
+  try {
+    run_verify(o, {m});
+    ADD_FAILURE() << m.name << ": no fault reported";
+  } catch (const MethodFault& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.method(), m.name);
+    EXPECT_NE(what.find(m.name), std::string::npos) << what;
+    EXPECT_NE(what.find(says), std::string::npos) << what;
+    EXPECT_NE(what.find("reproduce: cullproof verify --seed 5"), std::string::npos) << what;
+    ASSERT_TRUE(e.saved().has_value()) << what;
+    // The saved case reproduces the fault.
+    const Case c = read_case_file(*e.saved());
+    EXPECT_THROW(checked_classify(m, c.frustum, c.volume), std::runtime_error);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MethodInterface, AMethodThatThrowsIsStoppedWithTheCase) {
+  MethodInfo info;
+  info.name = "throws";
+  expect_fault(make_method(info, [](const CaseFrustum& f) { return f.planes; },
+                           [](const Frustum&, const Aabb& b) -> Visibility {
+                             if (b.max.z >= b.min.z) throw std::domain_error("cannot handle this box");
+                             return V::intersecting;
+                           }),
+               "threw: cannot handle this box");
+}
+
+TEST(MethodInterface, AnAnswerThatIsNotAVerdictIsAFault) {
+  MethodInfo info;
+  info.name = "answers-seven";
+  expect_fault(make_method(info, [](const CaseFrustum& f) { return f.planes; },
+                           [](const Frustum&, const Aabb&) { return Visibility(7); }),
+               "answered 7, which is not a verdict");
+}
+
+TEST(MethodInterface, ATwoWayMethodAnsweringInsideIsAFault) {
+  MethodInfo info;
+  info.name = "two-way-says-inside";
+  info.three_way = false;
+  expect_fault(make_method(info, [](const CaseFrustum& f) { return f.planes; },
+                           [](const Frustum&, const Aabb&) { return V::inside; }),
+               "answered inside, but it is two-way");
+}
+
+TEST(MethodInterface, StatefulMethodsAreResetAndRunInCaseOrder) {
+  struct Log {
+    int resets = 0;
+    int frames_since_reset = 0;
+    int max_frames_since_reset = 0;
+  };
+  auto log = std::make_shared<Log>();
+  MethodInfo info;
+  info.name = "coherent";
+  info.stateful = true;
+  Method m = make_method(
+      info,
+      [log](const CaseFrustum& f) {
+        log->max_frames_since_reset = std::max(log->max_frames_since_reset, ++log->frames_since_reset);
+        return f.planes;
+      },
+      [](const Frustum& f, const Aabb& b) { return pn_vertex(f, b); });
+  m.on_reset([log] {
+    ++log->resets;
+    log->frames_since_reset = 0;
+  });
+  VerifyOptions o = small_run(300);
+  o.distributions = {gen::Distribution::corner};
+  run_verify(o, {m});
+  EXPECT_EQ(log->resets, 300);
+  EXPECT_EQ(log->max_frames_since_reset, 1);
+}
+
+TEST(MethodInterface, TwoMethodsWithOneNameAreRefused) {
+  EXPECT_THROW(run_verify(small_run(10), {user_method(false), user_method(false)}), std::invalid_argument);
+}
+
+TEST(MethodInterface, TimingReportsSetUpAndPerTestCostSeparately) {
+  VerifyOptions o = small_run(50);
+  o.distributions = {gen::Distribution::uniform};
+  o.timing = true;
+  o.frame_size = 256;
+  o.timing_frames = 2;
+  const VerifyResult r = run_verify(o, {user_method(false), *find_builtin("pn-vertex-batch-simd")});
+  for (const MethodStats& s : r.distributions[0].methods) {
+    EXPECT_GT(s.ns_per_test, 0.0) << s.method;
+    EXPECT_GT(s.ns_setup_per_frame, 0.0) << s.method;
+  }
+  EXPECT_FALSE(r.distributions[0].methods[0].timed_batch);
+  EXPECT_TRUE(r.distributions[0].methods[1].timed_batch);
+}
+
+}  // namespace
+}  // namespace cullproof
