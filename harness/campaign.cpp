@@ -340,9 +340,14 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
   return cur.value();
 }
 
-std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const std::string& method) {
-  return fmt::format("cullproof verify --seed {} --distribution {} --index {} --method {}", seed,
-                     gen::to_string(d), index, method);
+std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const Method& m) {
+  // A user's method is not in the command-line program: its test reruns the case from the
+  // environment (cullproof/gtest.hpp).
+  if (m.origin == Origin::user)
+    return fmt::format("CULLPROOF_SEED={} CULLPROOF_DISTRIBUTION={} CULLPROOF_INDEX={} (environment of the test that verifies {})",
+                       seed, gen::to_string(d), index, m.name);
+  return fmt::format("cullproof verify --seed {} --distribution {} --index {} --method {}", seed, gen::to_string(d), index,
+                     m.name);
 }
 
 // Writes one corpus case; returns its id, or "" when the same geometry is already recorded.
@@ -378,7 +383,7 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   x["witness"] = r.witness;
   x["seed"] = seed;
   x["index"] = index;
-  x["reproduce"] = reproduce_command(seed, d, index, m.name);
+  x["reproduce"] = reproduce_command(seed, d, index, m);
   nlohmann::json verdicts = nlohmann::json::object();
   for (const Method& o : all)
     if (auto v = run_method(o, g)) verdicts[o.name] = std::string(to_string(*v));
@@ -495,7 +500,7 @@ Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
   c.extra["distribution"] = std::string(gen::to_string(d));
   c.extra["seed"] = opt.seed;
   c.extra["index"] = index;
-  c.extra["reproduce"] = reproduce_command(opt.seed, d, index, m.name);
+  c.extra["reproduce"] = reproduce_command(opt.seed, d, index, m);
   std::optional<std::filesystem::path> dir = opt.faults;
   if (!dir && opt.corpus) dir = *opt.corpus / "faults";
   std::optional<std::filesystem::path> saved;
@@ -514,7 +519,7 @@ Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
   const nlohmann::json j = nlohmann::json::parse(line);
   throw MethodFault(fmt::format("{}\n  on case {} of distribution {} (seed {}); the run is incomplete, no results are reported\n"
                                 "  reproduce: {}\n  case {}\n  {}",
-                                problem, index, gen::to_string(d), opt.seed, reproduce_command(opt.seed, d, index, m.name),
+                                problem, index, gen::to_string(d), opt.seed, reproduce_command(opt.seed, d, index, m),
                                 where, line),
                     m.name, j, saved);
 }

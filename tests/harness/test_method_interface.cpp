@@ -184,7 +184,7 @@ void expect_fault(const Method& m, const std::string& says) {
     EXPECT_EQ(e.method(), m.name);
     EXPECT_NE(what.find(m.name), std::string::npos) << what;
     EXPECT_NE(what.find(says), std::string::npos) << what;
-    EXPECT_NE(what.find("reproduce: cullproof verify --seed 5"), std::string::npos) << what;
+    EXPECT_NE(what.find("reproduce: CULLPROOF_SEED=5 CULLPROOF_DISTRIBUTION="), std::string::npos) << what;
     ASSERT_TRUE(e.saved().has_value()) << what;
     // The saved case reproduces the fault.
     const Case c = read_case_file(*e.saved());
