@@ -213,8 +213,8 @@ void register_interface() {
       }
       std::vector<Answer> out(dd.boxes.size());
       for (auto _ : s) {
-        if (m.volumes & kAabbKind) p->classify_batch(dd.boxes.data(), dd.boxes.size(), out.data());
-        else if (m.volumes & kObbKind) p->classify_batch(dd.obbs.data(), dd.obbs.size(), out.data());
+        if (m.volumes & kObbKind) p->classify_batch(dd.obbs.data(), dd.obbs.size(), out.data());
+        else if (m.volumes & kAabbKind) p->classify_batch(dd.boxes.data(), dd.boxes.size(), out.data());
         else if (m.volumes & kSphereKind) p->classify_batch(dd.spheres.data(), dd.spheres.size(), out.data());
         else p->classify_batch(dd.points.data(), dd.points.size(), out.data());
         benchmark::DoNotOptimize(out.data());
