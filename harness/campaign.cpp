@@ -195,9 +195,7 @@ Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v) 
   if (!m.takes(v)) return std::nullopt;
   Answer a;
   try {
-    const std::unique_ptr<PreparedFrustum> p = m.prepare(f);
-    if (!p) return std::nullopt;
-    a = p->classify(v);
+    a = m.classify(f, v);
   } catch (const std::exception& e) {
     throw std::runtime_error("method '" + m.name + "' threw: " + e.what());
   } catch (...) {
@@ -436,15 +434,21 @@ struct Timing {
 Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
   constexpr double kMinSeconds = 0.02;
   Timing t;
+  // The frames the method applies to, each with its state for the classify passes.
   std::vector<const KindedFrame*> mine;
-  std::size_t volumes = 0;
+  std::vector<std::unique_ptr<PreparedFrustum>> states;
+  std::size_t volumes = 0, largest = 0;
+  m.reset();
   for (const KindedFrame& f : frames) {
-    if (f.size() == 0 || !m.prepare(f.frustum)) continue;
+    if (f.size() == 0) continue;
+    auto p = m.prepare(f.frustum);
+    if (!p) continue;
     mine.push_back(&f);
+    states.push_back(std::move(p));
     volumes += f.size();
+    largest = std::max(largest, f.size());
   }
   if (mine.empty()) return t;
-  m.reset();
   std::size_t prepared = 0;
   const auto t0 = Clock::now();
   double secs = 0.0;
@@ -457,10 +461,7 @@ Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
   } while (secs < kMinSeconds);
   t.ns_setup_per_frame = secs * 1e9 / double(prepared);
 
-  std::vector<std::unique_ptr<PreparedFrustum>> states;
-  for (const KindedFrame* f : mine) states.push_back(m.prepare(f->frustum));
-  std::vector<Answer> answers(std::max({std::size_t(1), mine.front()->size()}));
-  for (const KindedFrame* f : mine) answers.resize(std::max(answers.size(), f->size()));
+  std::vector<Answer> answers(largest);
   unsigned sink = 0;
   std::uint64_t tests = 0;
   const auto t1 = Clock::now();

@@ -637,6 +637,8 @@ rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t i
 }
 
 Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::size_t size, unsigned kinds) {
+  // Frames are drawn from streams apart from the cases' ("frame" in ASCII mixed into the seed).
+  constexpr std::uint64_t kFrameStream = 0x6672616d65ull;
   if (kinds == 0) throw std::invalid_argument("draw_frame: no volume kind asked for");
   // Up to 64 draws per volume asked for: a kind the distribution rarely makes (points) still
   // fills the frame; one it never makes leaves it short, which the caller sees.
@@ -659,12 +661,12 @@ Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::s
         if (kinds & volume_kind(v)) fr.volumes.push_back(std::move(v));
       }
       return fr;
-    })(rc::Random(draw_key(seed ^ 0x6672616d65ull, d, index)), 100).value();
+    })(rc::Random(draw_key(seed ^ kFrameStream, d, index)), 100).value();
   } else {
     // The hard families build frustum and volume together: the first case's frustum with the
     // volumes of the cases that follow it.
     for (std::uint64_t k = 0; k < attempts && out.volumes.size() < size; ++k) {
-      GenCase c = draw(d, seed ^ 0x6672616d65ull, index * attempts + k).value();
+      GenCase c = draw(d, seed ^ kFrameStream, index * attempts + k).value();
       if (k == 0) out.frustum = c.frustum;
       if (kinds & volume_kind(c.volume)) out.volumes.push_back(std::move(c.volume));
     }
