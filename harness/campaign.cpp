@@ -191,22 +191,173 @@ bool VerifyResult::claim_broken() const noexcept {
   return false;
 }
 
+namespace {
+
+// Why an answer is not one the method may give, or "" when it is.
+std::string answer_problem(const Method& m, const Answer& a) {
+  if (a && unsigned(*a) > unsigned(Visibility::inside))
+    return fmt::format("method '{}' answered {}, which is not a verdict (0 outside, 1 intersecting, 2 inside)", m.name,
+                       unsigned(*a));
+  if (a && *a == Visibility::inside && !m.three_way)
+    return "method '" + m.name + "' answered inside, but it is two-way (visible or outside)";
+  return "";
+}
+
+// Calls into a method, turning what it throws into a runtime_error naming it.
+template <class F>
+void call_method(const Method& m, const char* what, F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    throw std::runtime_error("method '" + m.name + "' threw" + what + ": " + e.what());
+  } catch (...) {
+    throw std::runtime_error("method '" + m.name + "' threw" + what + " something that is not a std::exception");
+  }
+}
+
+// A fault on a camera path and where it happened.
+struct PathFault : std::runtime_error {
+  PathFault(const std::string& what, std::size_t f, std::size_t o) : std::runtime_error(what), frame(f), object(o) {}
+  std::size_t frame, object;
+};
+
+// Runs stateful method `m` over frames[0..last] of a camera path with `objects` (see the contract
+// in cullproof/methods.hpp); sink(frame, object, answer) for each object it takes, every frame.
+// Throws PathFault.
+template <class Sink>
+void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size_t last, const std::vector<Volume>& objects,
+              Sink&& sink) {
+  std::vector<std::size_t> order;  // objects the method takes, in path order
+  std::vector<Point> points;
+  std::vector<Sphere> spheres;
+  std::vector<Aabb> aabbs;
+  std::vector<Obb> obbs;
+  std::vector<std::size_t> of_kind[4];  // path index of each, by kind
+  for (std::size_t o = 0; o < objects.size(); ++o) {
+    if (!m.takes(objects[o])) continue;
+    order.push_back(o);
+    std::visit(
+        [&](const auto& x) {
+          using T = std::decay_t<decltype(x)>;
+          if constexpr (std::is_same_v<T, Point>) points.push_back(x), of_kind[0].push_back(o);
+          else if constexpr (std::is_same_v<T, Sphere>) spheres.push_back(x), of_kind[1].push_back(o);
+          else if constexpr (std::is_same_v<T, Aabb>) aabbs.push_back(x), of_kind[2].push_back(o);
+          else obbs.push_back(x), of_kind[3].push_back(o);
+        },
+        objects[o]);
+  }
+  if (order.empty()) return;
+  auto guarded = [&](std::size_t f, std::size_t o, const char* what, auto&& fn) {
+    try {
+      call_method(m, what, fn);
+    } catch (const std::runtime_error& e) {
+      throw PathFault(e.what(), f, o);
+    }
+  };
+  guarded(0, order[0], " in reset()", [&] { m.reset(); });
+  std::vector<Answer> answers;
+  for (std::size_t f = 0; f <= last; ++f) {
+    std::unique_ptr<PreparedFrustum> p;
+    guarded(f, order[0], " in prepare", [&] { p = m.prepare(frames[f]); });
+    if (!p) {
+      for (std::size_t o : order) sink(f, o, Answer{});
+      continue;
+    }
+    if (m.has_batch()) {
+      auto batch = [&](const auto& vols, const std::vector<std::size_t>& idx) {
+        if (vols.empty()) return;
+        answers.assign(vols.size(), Answer{});
+        guarded(f, idx[0], " in classify_batch", [&] { p->classify_batch(vols.data(), vols.size(), answers.data()); });
+        for (std::size_t j = 0; j < vols.size(); ++j) {
+          const std::string problem = answer_problem(m, answers[j]);
+          if (!problem.empty()) throw PathFault(problem, f, idx[j]);
+          sink(f, idx[j], answers[j]);
+        }
+      };
+      batch(points, of_kind[0]);
+      batch(spheres, of_kind[1]);
+      batch(aabbs, of_kind[2]);
+      batch(obbs, of_kind[3]);
+    } else {
+      for (std::size_t o : order) {
+        Answer a;
+        guarded(f, o, "", [&] { a = p->classify(objects[o]); });
+        const std::string problem = answer_problem(m, a);
+        if (!problem.empty()) throw PathFault(problem, f, o);
+        sink(f, o, a);
+      }
+    }
+  }
+}
+
+}  // namespace
+
 Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v) {
   if (!m.takes(v)) return std::nullopt;
   Answer a;
-  try {
-    a = m.classify(f, v);
-  } catch (const std::exception& e) {
-    throw std::runtime_error("method '" + m.name + "' threw: " + e.what());
-  } catch (...) {
-    throw std::runtime_error("method '" + m.name + "' threw something that is not a std::exception");
-  }
-  if (a && unsigned(*a) > unsigned(Visibility::inside))
-    throw std::runtime_error(fmt::format("method '{}' answered {}, which is not a verdict (0 outside, 1 intersecting, 2 inside)",
-                                         m.name, unsigned(*a)));
-  if (a && *a == Visibility::inside && !m.three_way)
-    throw std::runtime_error("method '" + m.name + "' answered inside, but it is two-way (visible or outside)");
+  call_method(m, "", [&] { a = m.classify(f, v); });
+  const std::string problem = answer_problem(m, a);
+  if (!problem.empty()) throw std::runtime_error(problem);
   return a;
+}
+
+Answer checked_classify_path(const Method& m, const PathCase& p) {
+  if (p.frames.empty() || p.object >= p.objects.size())
+    throw std::invalid_argument("checked_classify_path: a path case needs a frame and its object among the objects");
+  if (!m.stateful) return checked_classify(m, p.frustum(), p.volume());
+  Answer out;
+  try {
+    run_path(m, p.frames, p.frames.size() - 1, p.objects, [&](std::size_t f, std::size_t o, const Answer& a) {
+      if (f + 1 == p.frames.size() && o == p.object) out = a;
+    });
+  } catch (const PathFault& e) {
+    throw std::runtime_error(fmt::format("{} (camera path frame {}, object {})", e.what(), e.frame, e.object));
+  }
+  return out;
+}
+
+nlohmann::json to_json(const PathCase& p) {
+  nlohmann::json j;
+  j["motion"] = p.motion;
+  j["object"] = p.object;
+  j["frames"] = nlohmann::json::array();
+  for (const CaseFrustum& f : p.frames) j["frames"].push_back(nlohmann::json::parse(format_frustum(f)));
+  j["objects"] = nlohmann::json::array();
+  for (const Volume& v : p.objects) j["objects"].push_back(nlohmann::json::parse(format_volume(v)));
+  return j;
+}
+
+PathCase path_from_json(const nlohmann::json& j, const std::string& where) {
+  auto bad = [&](const std::string& field, const std::string& why) {
+    return std::runtime_error(where + ": field 'path." + field + "': " + why);
+  };
+  if (!j.is_object()) throw bad("", "not an object");
+  PathCase p;
+  if (auto it = j.find("motion"); it != j.end() && it->is_string()) p.motion = it->get<std::string>();
+  const auto fr = j.find("frames"), ob = j.find("objects"), at = j.find("object");
+  if (fr == j.end() || !fr->is_array() || fr->empty()) throw bad("frames", "missing or not a non-empty array");
+  if (ob == j.end() || !ob->is_array() || ob->empty()) throw bad("objects", "missing or not a non-empty array");
+  if (at == j.end() || !at->is_number_unsigned()) throw bad("object", "missing or not an index");
+  // Each frame and object is read by the case reader, with its checks, as a case of its own.
+  const nlohmann::json any_volume = {{"point", {0, 0, 0}}};
+  for (std::size_t k = 0; k < fr->size(); ++k) {
+    try {
+      p.frames.push_back(parse_case(nlohmann::json{{"id", "path"}, {"frustum", (*fr)[k]}, {"volume", any_volume}}.dump(), "recorded path").frustum);
+    } catch (const std::exception& e) {
+      throw bad(fmt::format("frames[{}]", k), e.what());
+    }
+  }
+  for (std::size_t k = 0; k < ob->size(); ++k) {
+    try {
+      p.objects.push_back(parse_case(nlohmann::json{{"id", "path"}, {"frustum", (*fr)[0]}, {"volume", (*ob)[k]}}.dump(), "recorded path").volume);
+    } catch (const std::exception& e) {
+      throw bad(fmt::format("objects[{}]", k), e.what());
+    }
+  }
+  p.object = at->get<std::size_t>();
+  if (p.object >= p.objects.size())
+    throw bad("object", fmt::format("{} is not among the {} objects", p.object, p.objects.size()));
+  return p;
 }
 
 std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept {
@@ -338,6 +489,35 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
   return cur.value();
 }
 
+// Shrinks a stateful method's error on a camera path: the object alone if the error stays without
+// the others, then the fewest frames before the one judged that keep it (the case judged, and so
+// its truth and distance, does not change).
+PathCase shrink_path(PathCase p, const Method& m, ErrorClass cls, Visibility truth, int budget) {
+  auto still = [&](const PathCase& c) {
+    try {
+      const Answer a = checked_classify_path(m, c);
+      return a && error_class(*a, truth, m.three_way) == cls;
+    } catch (const std::exception&) {
+      return false;  // a fault is reported by the run itself, not found by shrinking
+    }
+  };
+  if (p.objects.size() > 1 && budget-- > 0) {
+    PathCase q = p;
+    q.objects = {p.volume()};
+    q.object = 0;
+    if (still(q)) p = std::move(q);
+  }
+  for (std::size_t drop = p.frames.size() - 1; drop >= 1 && budget-- > 0; --drop) {
+    PathCase q = p;
+    q.frames.erase(q.frames.begin(), q.frames.begin() + std::ptrdiff_t(drop));
+    if (still(q)) {
+      p = std::move(q);
+      break;
+    }
+  }
+  return p;
+}
+
 std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const Method& m) {
   // A user's method is not in the command-line program: its test reruns the case from the
   // environment (cullproof/gtest.hpp).
@@ -349,9 +529,11 @@ std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint
 }
 
 // Writes one corpus case; returns its id, or "" when the same geometry is already recorded.
+// `path`: the camera path a stateful method's error needs to reproduce, recorded with the case
+// (the other stateful methods' verdicts are taken over it too).
 std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g, const Method& m, Visibility verdict,
                               gen::Distribution d, std::uint64_t seed, std::uint64_t index,
-                              const std::vector<Method>& all) {
+                              const std::vector<Method>& all, const PathCase* path = nullptr) {
   const oracle::Result r = oracle::classify(g.frustum, g.volume);
   const ErrorClass cls = error_class(verdict, r.truth, m.three_way);
   const std::string hash = geometry_hash(g.frustum, g.volume);
@@ -382,9 +564,11 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   x["seed"] = seed;
   x["index"] = index;
   x["reproduce"] = reproduce_command(seed, d, index, m);
+  if (path) x["path"] = to_json(*path);
   nlohmann::json verdicts = nlohmann::json::object();
   for (const Method& o : all)
-    if (auto v = run_method(o, g)) verdicts[o.name] = std::string(to_string(*v));
+    if (auto v = path && o.stateful ? checked_classify_path(o, *path) : run_method(o, g))
+      verdicts[o.name] = std::string(to_string(*v));
   x["verdicts"] = verdicts;
   const auto file = dir / m.name / gen::to_string(d) / fmt::format("{}-{}.json", to_string(cls), hash);
   if (std::filesystem::exists(file)) return "";
@@ -404,12 +588,14 @@ struct KindedFrame {
   std::vector<Sphere> spheres;
   std::vector<Aabb> aabbs;
   std::vector<Obb> obbs;
+  bool continues = false;  // gen::Frame::continues
   std::size_t size() const noexcept { return points.size() + spheres.size() + aabbs.size() + obbs.size(); }
 };
 
 KindedFrame split(gen::Frame f) {
   KindedFrame k;
   k.frustum = std::move(f.frustum);
+  k.continues = f.continues;
   for (const Volume& v : f.volumes)
     std::visit(
         [&](const auto& x) {
@@ -428,17 +614,64 @@ struct Timing {
   double ns_setup_per_frame = std::numeric_limits<double>::quiet_NaN();
 };
 
+// Classifies a frame's volumes through classify_batch, kind by kind; answers sized for it.
+unsigned classify_frame(PreparedFrustum& p, const KindedFrame& f, std::vector<Answer>& answers) {
+  Answer* a = answers.data();
+  if (!f.points.empty()) p.classify_batch(f.points.data(), f.points.size(), a), a += f.points.size();
+  if (!f.spheres.empty()) p.classify_batch(f.spheres.data(), f.spheres.size(), a), a += f.spheres.size();
+  if (!f.aabbs.empty()) p.classify_batch(f.aabbs.data(), f.aabbs.size(), a), a += f.aabbs.size();
+  if (!f.obbs.empty()) p.classify_batch(f.obbs.data(), f.obbs.size(), a), a += f.obbs.size();
+  return (answers[0] ? unsigned(*answers[0]) : 3u) + (answers[f.size() - 1] ? unsigned(*answers[f.size() - 1]) : 3u);
+}
+
+constexpr double kMinTimingSeconds = 0.02;
+
+// A stateful method runs as it would in an engine: frame after frame, each prepared and then
+// classified (reset() where a frame does not continue the previous one's path), the two phases
+// timed apart with a clock read around each (about 20 ns a read, in the set-up figure).
+Timing time_stateful(const Method& m, const std::vector<KindedFrame>& frames) {
+  Timing t;
+  std::size_t largest = 0;
+  for (const KindedFrame& f : frames) largest = std::max(largest, f.size());
+  if (largest == 0) return t;
+  std::vector<Answer> answers(largest);
+  unsigned sink = 0;
+  std::uint64_t tests = 0, prepared = 0;
+  double prep_secs = 0.0, cls_secs = 0.0;
+  do {
+    for (const KindedFrame& f : frames) {
+      if (!f.continues) m.reset();
+      if (f.size() == 0) continue;
+      const auto t0 = Clock::now();
+      const auto p = m.prepare(f.frustum);
+      const auto t1 = Clock::now();
+      prep_secs += std::chrono::duration<double>(t1 - t0).count();
+      if (!p) continue;
+      ++prepared;
+      sink += classify_frame(*p, f, answers);
+      cls_secs += std::chrono::duration<double>(Clock::now() - t1).count();
+      tests += f.size();
+    }
+  } while (prepared > 0 && prep_secs + cls_secs < kMinTimingSeconds);
+  static std::atomic<unsigned> keep{0};
+  keep += sink;
+  if (prepared == 0) return t;
+  t.ns_setup_per_frame = prep_secs * 1e9 / double(prepared);
+  t.ns_per_test = cls_secs * 1e9 / double(tests);
+  return t;
+}
+
 // Times prepare once per frame and classify_batch over each frame's volumes, in passes over the
 // frames until each measure has run for at least 20 ms. Frames the method does not apply to
 // are left out.
 Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
-  constexpr double kMinSeconds = 0.02;
+  if (m.stateful) return time_stateful(m, frames);
+  constexpr double kMinSeconds = kMinTimingSeconds;
   Timing t;
   // The frames the method applies to, each with its state for the classify passes.
   std::vector<const KindedFrame*> mine;
   std::vector<std::unique_ptr<PreparedFrustum>> states;
   std::size_t volumes = 0, largest = 0;
-  m.reset();
   for (const KindedFrame& f : frames) {
     if (f.size() == 0) continue;
     auto p = m.prepare(f.frustum);
@@ -467,17 +700,7 @@ Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
   const auto t1 = Clock::now();
   secs = 0.0;
   do {
-    for (std::size_t i = 0; i < mine.size(); ++i) {
-      const KindedFrame& f = *mine[i];
-      PreparedFrustum& p = *states[i];
-      Answer* a = answers.data();
-      if (!f.points.empty()) p.classify_batch(f.points.data(), f.points.size(), a), a += f.points.size();
-      if (!f.spheres.empty()) p.classify_batch(f.spheres.data(), f.spheres.size(), a), a += f.spheres.size();
-      if (!f.aabbs.empty()) p.classify_batch(f.aabbs.data(), f.aabbs.size(), a), a += f.aabbs.size();
-      if (!f.obbs.empty()) p.classify_batch(f.obbs.data(), f.obbs.size(), a), a += f.obbs.size();
-      sink += answers[0] ? unsigned(*answers[0]) : 3u;
-      sink += answers[f.size() - 1] ? unsigned(*answers[f.size() - 1]) : 3u;
-    }
+    for (std::size_t i = 0; i < mine.size(); ++i) sink += classify_frame(*states[i], *mine[i], answers);
     tests += volumes;
     secs = std::chrono::duration<double>(Clock::now() - t1).count();
   } while (secs < kMinSeconds);
@@ -490,7 +713,7 @@ Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
 // Saves the case that made a method fault and builds the error. Faults are searched from the
 // smallest case index, so the same seed reports the same case.
 [[noreturn]] void fault(const VerifyOptions& opt, const Method& m, gen::Distribution d, std::uint64_t index,
-                        const GenCase& g, const std::string& problem) {
+                        const GenCase& g, const std::string& problem, const PathCase* path = nullptr) {
   Case c;
   c.id = fmt::format("{}-fault-{}", m.name, geometry_hash(g.frustum, g.volume));
   c.frustum = g.frustum;
@@ -502,6 +725,7 @@ Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
   c.extra["seed"] = opt.seed;
   c.extra["index"] = index;
   c.extra["reproduce"] = reproduce_command(opt.seed, d, index, m);
+  if (path) c.extra["path"] = to_json(*path);
   std::optional<std::filesystem::path> dir = opt.faults;
   if (!dir && opt.corpus) dir = *opt.corpus / "faults";
   std::optional<std::filesystem::path> saved;
@@ -552,20 +776,44 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
     const auto st0 = oracle::stats();
     // RapidCheck's generation context is process-global (not thread-safe): cases are drawn on
     // this thread, the oracle and the methods run in parallel.
+    // Camera-path cases come path by path: each path is drawn once (and kept for the stateful
+    // methods, which run over it).
+    const bool on_paths = d == gen::Distribution::camera_path;
+    std::map<std::uint64_t, gen::CameraPath> paths;
     for (std::uint64_t i = 0; i < per; ++i) {
-      cases[i] = gen::draw(d, opt.seed, first + i).value();
+      if (on_paths) {
+        const gen::PathIndex at = gen::path_index(first + i);
+        auto it = paths.find(at.path);
+        if (it == paths.end()) it = paths.emplace(at.path, gen::draw_path(opt.seed, at.path)).first;
+        cases[i] = gen::path_case(it->second, at.frame, at.object);
+      } else {
+        cases[i] = gen::draw(d, opt.seed, first + i).value();
+      }
       validate(cases[i].volume);
     }
+    // The path case of a stateful method at case index `index` of this run's paths: the frames up
+    // to its own, every object.
+    auto path_case_at = [&](std::uint64_t index) {
+      const gen::PathIndex at = gen::path_index(index);
+      const gen::CameraPath& cp = paths.at(at.path);
+      PathCase pc;
+      pc.frames.assign(cp.frames.begin(), cp.frames.begin() + std::ptrdiff_t(at.frame + 1));
+      pc.objects = cp.objects;
+      pc.object = at.object;
+      pc.motion = cp.motion;
+      return pc;
+    };
     // A fault is kept for the smallest case index it happens on (the same seed reports the same
-    // case whatever the threads do).
+    // case whatever the threads do). Indices are the distribution's (a stateful method on a
+    // camera path may fault on a frame before the first case asked for).
     std::mutex fault_mutex;
     std::uint64_t fault_index = std::numeric_limits<std::uint64_t>::max();
     std::size_t fault_method = 0;
     std::string fault_problem;
-    auto note_fault = [&](std::uint64_t i, std::size_t k, const std::string& problem) {
+    auto note_fault = [&](std::uint64_t index, std::size_t k, const std::string& problem) {
       std::lock_guard<std::mutex> g(fault_mutex);
-      if (i < fault_index || (i == fault_index && k < fault_method)) {
-        fault_index = i;
+      if (index < fault_index || (index == fault_index && k < fault_method)) {
+        fault_index = index;
         fault_method = k;
         fault_problem = problem;
       }
@@ -576,28 +824,50 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
         out[i].verdict[k] = v ? std::int8_t(*v) : std::int8_t(-1);
       } catch (const std::exception& e) {
         out[i].verdict[k] = -1;
-        note_fault(i, k, e.what());
+        note_fault(first + i, k, e.what());
       }
     };
     tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
         out[i].truth = oracle::truth(cases[i].frustum, cases[i].volume);
-        out[i].verdict.resize(ms.size());
+        out[i].verdict.resize(ms.size(), std::int8_t(-1));
         for (std::size_t k = 0; k < ms.size(); ++k)
           if (!ms[k].stateful) run_one(i, k);
       }
       progress.add(r.size());
     });
-    // Stateful methods on one thread, in case order, each case a camera path of one frame.
-    for (std::size_t k = 0; k < ms.size(); ++k)
-      if (ms[k].stateful)
-        for (std::uint64_t i = 0; i < per; ++i) {
-          ms[k].reset();
-          run_one(i, k);
+    // Stateful methods on one thread: over each camera path from its first frame to the last
+    // frame a case of the run is on; elsewhere case by case, each a path of one frame.
+    for (std::size_t k = 0; k < ms.size(); ++k) {
+      if (!ms[k].stateful) continue;
+      if (!on_paths) {
+        for (std::uint64_t i = 0; i < per; ++i) run_one(i, k);
+        continue;
+      }
+      for (const auto& [number, cp] : paths) {
+        const std::uint64_t base = gen::path_case_index({number, 0, 0});
+        const std::uint64_t last = std::min(base + gen::kPathFrames * gen::kPathObjects, first + per) - 1;
+        try {
+          run_path(ms[k], cp.frames, gen::path_index(last).frame, cp.objects,
+                   [&](std::size_t f, std::size_t o, const Answer& a) {
+                     const std::uint64_t index = gen::path_case_index({number, f, o});
+                     if (index >= first && index < first + per) out[index - first].verdict[k] = a ? std::int8_t(*a) : std::int8_t(-1);
+                   });
+        } catch (const PathFault& e) {
+          note_fault(gen::path_case_index({number, e.frame, e.object}), k,
+                     fmt::format("{} (camera path frame {}, object {})", e.what(), e.frame, e.object));
         }
+      }
+    }
     if (fault_index != std::numeric_limits<std::uint64_t>::max()) {
       progress.finish();
-      fault(opt, ms[fault_method], d, first + fault_index, cases[fault_index], fault_problem);
+      const Method& m = ms[fault_method];
+      if (on_paths && m.stateful) {
+        const PathCase pc = path_case_at(fault_index);
+        GenCase g = gen::path_case(paths.at(gen::path_index(fault_index).path), pc.frames.size() - 1, pc.object);
+        fault(opt, m, d, fault_index, g, fault_problem, &pc);
+      }
+      fault(opt, m, d, fault_index, cases[fault_index - first], fault_problem);
     }
     // The oracle's distance (an exact QP for outside volumes) and the case scale, once per case
     // that some method got wrong, in parallel: they depend on the case, not on the method.
@@ -672,16 +942,24 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
         int& quota = violation ? violations_written[cls] : written[cls];
         if (opt.corpus && quota < (violation ? kViolationsPerClass : opt.corpus_per_class)) {
           ++quota;
-          const GenCase small = shrink(gen::draw(d, opt.seed, first + i), m, cls, violation, opt.shrink_budget);
+          std::optional<PathCase> path;  // a stateful method's error on a camera path is kept with its path
+          GenCase small;
+          if (on_paths && m.stateful) {
+            path = shrink_path(path_case_at(first + i), m, cls, t, opt.shrink_budget);
+            small = cases[i];
+          } else {
+            small = shrink(gen::draw(d, opt.seed, first + i), m, cls, violation, opt.shrink_budget);
+          }
           Answer vs;
           try {
-            vs = run_method(m, small);
+            vs = path ? checked_classify_path(m, *path) : run_method(m, small);
           } catch (const std::exception& e) {
             progress.finish();
-            fault(opt, m, d, first + i, small, e.what());
+            fault(opt, m, d, first + i, small, e.what(), path ? &*path : nullptr);
           }
           if (!vs) continue;
-          const std::string id = write_corpus_case(*opt.corpus, small, m, *vs, d, opt.seed, first + i, ms);
+          const std::string id =
+              write_corpus_case(*opt.corpus, small, m, *vs, d, opt.seed, first + i, ms, path ? &*path : nullptr);
           if (!id.empty()) s.corpus_written.push_back(id);
         }
       }

@@ -71,6 +71,12 @@ std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir) {
     }
     e.error = class_from_string(need_string(e.c.extra, "class", f), f);
     e.distribution = need_string(e.c.extra, "distribution", f);
+    if (auto it = e.c.extra.find("path"); it != e.c.extra.end()) {
+      e.path = path_from_json(*it, f);
+      if (format_frustum(e.path->frustum()) != format_frustum(e.c.frustum) ||
+          format_volume(e.path->volume()) != format_volume(e.c.volume))
+        throw std::runtime_error(f + ": field 'path': its last frame and its object are not the case's frustum and volume");
+    }
     out.push_back(std::move(e));
   }
   return out;
@@ -88,14 +94,17 @@ ReplayResult replay(const CorpusEntry& e, const std::vector<Method>& methods) {
   r.entry = &e;
   r.truth_now = oracle::truth(e.c.frustum, e.c.volume);
   r.truth_changed = r.truth_now != *e.c.truth;
-  if (const Method* m = find(e.method)) r.verdict_now = checked_classify(*m, e.c.frustum, e.c.volume);
+  auto answer = [&](const Method& m) {
+    return e.path && m.stateful ? checked_classify_path(m, *e.path) : checked_classify(m, e.c.frustum, e.c.volume);
+  };
+  if (const Method* m = find(e.method)) r.verdict_now = answer(*m);
   r.reproduces = r.verdict_now && *r.verdict_now == e.verdict;
   r.fixed = r.verdict_now && *r.verdict_now == r.truth_now;
   if (auto it = e.c.extra.find("verdicts"); it != e.c.extra.end() && it->is_object()) {
     for (auto v = it->begin(); v != it->end(); ++v) {
       const Method* m = find(v.key());
       if (!m || !v->is_string()) continue;
-      const auto now = checked_classify(*m, e.c.frustum, e.c.volume);
+      const auto now = answer(*m);
       const Visibility recorded = visibility_from_string(v->get<std::string>());
       if (!now || *now != recorded) r.changed.push_back(v.key());
       if (recorded == *e.c.truth && (!now || *now != r.truth_now)) r.regressed.push_back(v.key());

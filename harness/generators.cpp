@@ -42,6 +42,8 @@ constexpr Info kInfo[] = {
     {Distribution::extreme_fov, "extreme-fov", "fov 0.01..179.9 degrees, aspect 1e-3..1e3"},
     {Distribution::ill_conditioned, "ill-conditioned", "planes scaled by huge/tiny factors, skewed OBB axes"},
     {Distribution::rod, "rod", "long thin boxes crossing the frustum with no corner inside"},
+    {Distribution::camera_path, "camera-path",
+     "a camera moving past fixed volumes (still, translating, turning, zooming), frame by frame"},
 };
 
 }  // namespace
@@ -59,8 +61,8 @@ std::string_view describe(Distribution d) noexcept {
 }
 
 std::vector<Distribution> generic_distributions() {
-  return {Distribution::uniform, Distribution::near_boundary, Distribution::corner,
-          Distribution::enclosing, Distribution::tiny_huge, Distribution::degenerate};
+  return {Distribution::uniform,   Distribution::near_boundary, Distribution::corner,     Distribution::enclosing,
+          Distribution::tiny_huge, Distribution::degenerate,    Distribution::camera_path};
 }
 
 std::vector<Distribution> hard_distributions() {
@@ -595,6 +597,89 @@ GenCase hard_case(Distribution d) {
 
 }  // namespace
 
+// Camera paths ---------------------------------------------------------------------------------
+
+namespace {
+
+// The camera of frame k of a path from `base`: motions are applied k times from the base pose
+// (not accumulated frame to frame), so frame k does not depend on rounding in earlier frames.
+Camera moved(const Camera& base, const std::string& motion, int k, const glm::dvec3& step, const glm::dvec3& axis,
+             double angle, double zoom) {
+  Camera c = base;
+  const glm::dvec3 dir = glm::normalize(glm::dvec3(base.dir));
+  const glm::dvec3 right = glm::normalize(glm::cross(dir, glm::dvec3(base.up)));
+  const glm::dvec3 up = glm::cross(right, dir);
+  auto turn = [&](const glm::dvec3& about) {
+    const glm::dquat q = glm::angleAxis(angle * k, about);
+    c.dir = glm::vec3(q * dir);
+    c.up = glm::vec3(q * up);
+  };
+  if (motion == "translation" || motion == "general") c.eye = glm::vec3(glm::dvec3(base.eye) + step * double(k));
+  if (motion == "rotation-x") turn(right);
+  if (motion == "rotation-y") turn(up);
+  if (motion == "rotation-z") turn(dir);
+  if (motion == "general") turn(glm::normalize(axis));
+  if (motion == "zoom") {
+    const float s = float(std::pow(zoom, k));
+    c.l *= s, c.r *= s, c.b *= s, c.t *= s;
+  }
+  return c;
+}
+
+}  // namespace
+
+rc::Gen<CameraPath> camera_path() {
+  return rc::gen::resize(100, rc::gen::exec([] {
+    static const char* const kMotions[] = {"still", "translation", "rotation-x", "rotation-y",
+                                           "rotation-z", "general", "zoom"};
+    CameraPath path;
+    path.motion = kMotions[pick(7)];
+    const Camera base = generic_camera();
+    const Placement first = placement_for(base);
+    // Per frame: a step of 0.1% to 5% of the scene, a turn of 0.001 to 0.1 radians, a zoom of
+    // 0.5% to 5%, so that over the path the objects placed about the frusta cross their faces.
+    const glm::dvec3 step = unit_vector() * (first.size * log_in(-3, -1.3));
+    const glm::dvec3 axis = unit_vector();
+    const double angle = (coin(50) ? 1 : -1) * log_in(-3, -1);
+    const double zoom = coin(50) ? 1.0 + log_in(-2.3, -1.3) : 1.0 / (1.0 + log_in(-2.3, -1.3));
+    std::vector<Placement> places;
+    for (int k = 0; k < int(kPathFrames); ++k) {
+      const Camera c = moved(base, path.motion, k, step, axis, angle, zoom);
+      path.frames.push_back(realize(c));
+      places.push_back(placement_for(c));
+      path.scene_size.push_back(places.back().size);
+    }
+    // Objects about the first, middle and last frames' frusta: near their faces and corners, or
+    // anywhere around them.
+    static constexpr Distribution kAround[] = {Distribution::near_boundary, Distribution::corner, Distribution::uniform};
+    for (std::size_t i = 0; i < kPathObjects; ++i) {
+      const Placement& p = places[std::size_t(std::array<int, 3>{0, int(kPathFrames) / 2, int(kPathFrames) - 1}[pick(3)])];
+      path.objects.push_back(generic_volume(kAround[pick(3)], p));
+    }
+    return path;
+  }));
+}
+
+PathIndex path_index(std::uint64_t index) noexcept {
+  PathIndex p;
+  p.path = index / (kPathFrames * kPathObjects);
+  p.frame = std::size_t(index / kPathObjects % kPathFrames);
+  p.object = std::size_t(index % kPathObjects);
+  return p;
+}
+
+std::uint64_t path_case_index(const PathIndex& p) noexcept {
+  return (p.path * kPathFrames + p.frame) * kPathObjects + p.object;
+}
+
+GenCase path_case(const CameraPath& p, std::size_t frame, std::size_t object) {
+  GenCase g;
+  g.frustum = p.frames.at(frame);
+  g.scene_size = p.scene_size.at(frame);
+  g.volume = p.objects.at(object);
+  return g;
+}
+
 rc::Gen<GenCase> case_of(Distribution d) {
   // Fixed size: the building blocks draw from their whole ranges whatever size RapidCheck is at
   // (its inRange narrows with size, which at size 0 would pin every draw to its lower bound).
@@ -608,6 +693,10 @@ rc::Gen<GenCase> case_of(Distribution d) {
       case Distribution::extreme_fov:
       case Distribution::ill_conditioned:
       case Distribution::rod: return hard_case(d);
+      case Distribution::camera_path: {
+        const CameraPath p = *camera_path();
+        return path_case(p, std::size_t(pick(int(kPathFrames))), std::size_t(pick(int(kPathObjects))));
+      }
       default: return generic_case(d);
     }
   }));
@@ -633,7 +722,17 @@ std::uint64_t draw_key(std::uint64_t seed, Distribution d, std::uint64_t index) 
 }  // namespace
 
 rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index) {
+  if (d == Distribution::camera_path) {
+    // The case's path, picked from: its shrinks are simpler paths, seen at the same frame and object.
+    const PathIndex at = path_index(index);
+    return rc::gen::map(camera_path(), [at](const CameraPath& p) { return path_case(p, at.frame, at.object); })(
+        rc::Random(draw_key(seed, d, at.path)), 100);
+  }
   return case_of(d)(rc::Random(draw_key(seed, d, index)), 100);
+}
+
+CameraPath draw_path(std::uint64_t seed, std::uint64_t path) {
+  return camera_path()(rc::Random(draw_key(seed, Distribution::camera_path, path)), 100).value();
 }
 
 Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::size_t size, unsigned kinds) {
@@ -644,6 +743,14 @@ Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::s
   // fills the frame; one it never makes leaves it short, which the caller sees.
   const std::size_t attempts = 64 * size;
   Frame out;
+  if (d == Distribution::camera_path) {
+    const CameraPath p = draw_path(seed ^ kFrameStream, index / kPathFrames);
+    out.frustum = p.frames[index % kPathFrames];
+    out.continues = index % kPathFrames != 0;
+    for (const Volume& v : p.objects)
+      if ((kinds & volume_kind(v)) && out.volumes.size() < size) out.volumes.push_back(v);
+    return out;
+  }
   const bool generic = [&] {
     for (Distribution g : generic_distributions())
       if (g == d) return true;

@@ -95,6 +95,10 @@ std::string describe(const CorpusEntry& e) {
   Case bare = e.c;
   bare.extra = nlohmann::json::object();
   s += "  case: " + format_case(bare) + "\n" + hex_numbers(e.c) + "\n";
+  if (e.path)
+    s += fmt::format("  camera path: the error needs the {} frame(s) before it ({} motion, {} object(s)), recorded in "
+                     "the corpus file's \"path\"\n",
+                     e.path->frames.size() - 1, e.path->motion, e.path->objects.size());
   s += "  verdicts: " + field("verdicts") + "\n";
   s += "  witness: " + field("witness") + "\n";
   s += "  corpus file: " + e.file.string() + "\n";

@@ -42,6 +42,7 @@ Method::Method(MethodInfo info, Prepare prepare, bool batch)
 }
 
 Answer Method::classify(const CaseFrustum& f, const Volume& v) const {
+  if (stateful) reset();  // a camera path of one frame
   const std::unique_ptr<PreparedFrustum> p = prepare(f);
   if (!p) return std::nullopt;
   return p->classify(v);

@@ -97,11 +97,37 @@ class MethodFault : public std::runtime_error {
   std::optional<std::filesystem::path> saved_;
 };
 
-/// Runs method `m` on one case as the campaign does (prepare, then classify), checking what it
-/// answers: std::nullopt when it does not take the volume or does not apply. Throws
+/// Runs method `m` on one case as the campaign does (prepare, then classify; a stateful method is
+/// reset() first: the case is a camera path of one frame), checking what it answers:
+/// std::nullopt when it does not take the volume or does not apply. Throws
 /// std::runtime_error naming the method and the problem when it throws or answers a value that
 /// is not a verdict (or `inside`, being two-way).
 Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v);
+
+/// A case of a stateful method on a camera path: the frames up to the one it is judged on (the
+/// last), the objects the path shows every frame, and the one judged.
+struct PathCase {
+  std::vector<CaseFrustum> frames;
+  std::vector<Volume> objects;
+  std::size_t object = 0;
+  std::string motion;  ///< gen::CameraPath::motion, for the record
+  /// The case judged: the last frame and the object.
+  CaseFrustum frustum() const { return frames.back(); }
+  const Volume& volume() const { return objects.at(object); }
+};
+
+/// Runs stateful method `m` over the path as the campaign does (reset(), then every frame in
+/// order, prepared and then classified in full: see cullproof/methods.hpp) and returns its answer
+/// for the object judged on the last frame; std::nullopt when it does not take the volume or does
+/// not apply. Checks every answer as checked_classify does and throws std::runtime_error naming
+/// the method, the frame and the object on a fault. For a method that is not stateful it is
+/// checked_classify of the last frame and the object.
+Answer checked_classify_path(const Method& m, const PathCase& p);
+/// A path case as the corpus records it (field "path" of a case: motion, object, frames, objects
+/// in the case format's frustum and volume forms).
+nlohmann::json to_json(const PathCase& p);
+/// Reads a recorded path; throws std::runtime_error naming `where` and the field that is wrong.
+PathCase path_from_json(const nlohmann::json& j, const std::string& where);
 
 struct MethodStats {
   std::string method;

@@ -7,6 +7,7 @@
 #include "cullproof/case_io.hpp"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,10 @@ struct CorpusEntry {
   Visibility verdict{};      ///< its recorded verdict
   ErrorClass error{};        ///< recorded class
   std::string distribution;  ///< where the campaign found it
+  /// For a stateful method's error on a camera path: the path it needs (field "path"); the
+  /// case's frustum and volume are its last frame and its object. Stateful methods are replayed
+  /// over it, the others on the case alone.
+  std::optional<PathCase> path;
 };
 
 /// 12 hex digits identifying the geometry (FNV-1a of the canonical frustum and volume text).

@@ -18,8 +18,8 @@
 
 namespace cullproof::gen {
 
-/// Named case distributions. The first six are the generic ones; the rest are the hard-case
-/// families (issue 7), reported together as "all-hard".
+/// Named case distributions. uniform .. degenerate and camera_path are the generic ones (the
+/// campaign's default); touch .. rod are the hard-case families, reported together as "all-hard".
 enum class Distribution {
   uniform,            ///< volumes of all sizes anywhere around the frustum
   near_boundary,      ///< within a few box sizes of a frustum face
@@ -35,6 +35,7 @@ enum class Distribution {
   extreme_fov,        ///< fov 0.01 .. 179.9 degrees, aspect 1e-3 .. 1e3
   ill_conditioned,    ///< unnormalised planes with huge and tiny coefficients, skewed OBB axes
   rod,                ///< long thin boxes crossing the frustum with no corner inside
+  camera_path,        ///< a camera moving past fixed volumes, frame by frame (see CameraPath)
 };
 
 /// Stable kebab-case name ("near-boundary", "far-offset", ...).
@@ -71,13 +72,50 @@ rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t i
 struct Frame {
   CaseFrustum frustum;
   std::vector<Volume> volumes;
+  /// The next camera position of the previous frame's path: the same volumes in the same order
+  /// (camera-path frames after the first); a frame-coherent method keeps its state into it.
+  bool continues = false;
 };
 /// Frame `index` of distribution `d` for `seed`: up to `size` volumes whose kind is in `kinds`
 /// (VolumeKind bits), fewer when the distribution rarely makes that kind. Generic distributions
 /// place every volume around one camera's frustum, as in an engine's frame; the hard families,
 /// which build frustum and volume together, give the first case's frustum and the volumes of the
-/// cases that follow. Deterministic; a stream apart from draw()'s cases.
+/// cases that follow; camera-path frames are the frames of one path in order (index % kPathFrames
+/// of path index / kPathFrames), its objects of the kinds asked for. Deterministic; a stream
+/// apart from draw()'s cases.
 Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::size_t size, unsigned kinds);
+
+/// A camera path: kPathFrames frames of one moving camera (standing still, translating,
+/// turning about one of its axes, both at once, or zooming; every frustum kind of any_frustum)
+/// and kPathObjects fixed volumes placed about its frusta, so that they cross the boundary as it
+/// moves. Case `index` of the camera-path distribution is object `object` of frame `frame` of path
+/// `path` (path_index); a frame-coherent method sees the frames of a path in order, the same
+/// objects every frame (see cullproof/methods.hpp).
+constexpr std::size_t kPathFrames = 16;
+constexpr std::size_t kPathObjects = 128;
+struct CameraPath {
+  std::vector<CaseFrustum> frames;
+  std::vector<double> scene_size;  ///< per frame, as GenCase::scene_size
+  std::vector<Volume> objects;
+  std::string motion;              ///< "still", "translation", "rotation-x" (about the camera's right
+                                   ///< axis), "rotation-y" (up), "rotation-z" (view), "general", "zoom"
+};
+struct PathIndex {
+  std::uint64_t path = 0;
+  std::size_t frame = 0, object = 0;
+};
+/// Where case `index` of the camera-path distribution lies (cases run path by path, frame by
+/// frame, object by object).
+PathIndex path_index(std::uint64_t index) noexcept;
+/// The case index of a position on a path.
+std::uint64_t path_case_index(const PathIndex& p) noexcept;
+/// A random camera path.
+rc::Gen<CameraPath> camera_path();
+/// Path `path` of the camera-path distribution for `seed` (draw(camera_path, seed, index) is
+/// object i.object of frame i.frame of draw_path(seed, i.path), i = path_index(index)).
+CameraPath draw_path(std::uint64_t seed, std::uint64_t path);
+/// One case of a path.
+GenCase path_case(const CameraPath& p, std::size_t frame, std::size_t object);
 
 /// The scale against which rounding tolerances are measured (see Method::tolerance): the largest,
 /// over the planes, of what evaluating the plane at the volume rounds, in distance units,

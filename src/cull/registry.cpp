@@ -14,6 +14,8 @@
 #include "cullproof/cull_coherence.hpp"
 
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 namespace cullproof::detail {
 
@@ -50,6 +52,26 @@ std::optional<OctantCuller> octant_culler(const CaseFrustum& f) {
   if (!is_bounded(f.planes) || !is_symmetric(f.planes, 1e-5)) return std::nullopt;
   return OctantCuller(f.planes);
 }
+
+// Per-object states of a frame-coherent culler, by the order objects are classified in a frame.
+template <class S>
+struct ObjectStates {
+  std::vector<S> states;
+  std::size_t next = 0;
+  S& next_state() {
+    if (next == states.size()) states.emplace_back();
+    return states[next++];
+  }
+  void clear() {
+    states.clear();
+    next = 0;
+  }
+};
+template <class S>
+struct PlanesAnd {
+  Frustum planes;
+  std::shared_ptr<ObjectStates<S>> store;
+};
 
 struct PlanesAndBounds {
   Frustum planes;
@@ -262,19 +284,28 @@ void register_cull_methods(std::vector<Method>& out) {
         if (auto r = frustum_aabb_stage(p.bounds, b)) return *r;
         return pn_vertex(p.planes, b);
       }));
-  // ---- frame coherence: each volume is classified as a new object (its first frame)
-  out.push_back(make_method(
-      describe("plane-coherency", published)
-          .as("n/p-vertex test starting at the plane that rejected the box last frame")
-          .from(am + "§3.2")
-          .claims(Claim::conservative, kDirectTol)
-          .on(kAabbKind)
-          .touching(kTouchPn)
-          .stateful(),
-      planes, [](const Frustum& f, const Aabb& b) {
-        PlaneCoherencyCache cache;
-        return plane_coherency_test(f, b, cache);
-      }));
+  // ---- frame coherence: per-object state kept across the frames of a camera path (object k is
+  // the k-th box classified in a frame, the harness's contract for stateful methods), in a store
+  // the method's copies share and reset() empties.
+  {
+    auto caches = std::make_shared<ObjectStates<PlaneCoherencyCache>>();
+    out.push_back(make_method(
+                      describe("plane-coherency", published)
+                          .as("n/p-vertex test starting at the plane that rejected the box last frame")
+                          .from(am + "§3.2")
+                          .claims(Claim::conservative, kDirectTol)
+                          .on(kAabbKind)
+                          .touching(kTouchPn)
+                          .stateful(),
+                      [caches](const CaseFrustum& f) {
+                        caches->next = 0;
+                        return PlanesAnd<PlaneCoherencyCache>{f.planes, caches};
+                      },
+                      [](PlanesAnd<PlaneCoherencyCache>& s, const Aabb& b) {
+                        return plane_coherency_test(s.planes, b, s.store->next_state());
+                      })
+                      .on_reset([caches] { caches->clear(); }));
+  }
   out.push_back(make_method(
       describe("octant", published)
           .as("octant test as published: three outer planes when d2 <= d1 (symmetric frusta only)")
@@ -293,23 +324,32 @@ void register_cull_methods(std::vector<Method>& out) {
           .touching(kTouchPn)
           .stateful(),
       octant_culler, [](const OctantCuller& c, const Aabb& b) { return c.classify_corrected(b); }));
-  out.push_back(make_method(
-      describe("tr-coherency", published)
-          .as("translation/rotation coherency; first frame is a full six-plane test")
-          .from(am + "§3.5, fig. 7")
-          .claims(Claim::conservative, kDerivedTol)
-          .on(kAabbKind)
-          .touching(kTouchPn)
-          .stateful(),
-      [](const CaseFrustum& f) {
-        TrCoherencyCuller culler;
-        culler.begin_frame(f.planes);
-        return culler;
-      },
-      [](TrCoherencyCuller& culler, const Aabb& b) {
-        TrObjectState st;  // a new object: its first test is a full test
-        return culler.classify(b, st);
-      }));
+  {
+    // The frames carry no camera pose: translation coherency (A&M §3.5 (2)) only; rotation
+    // coherency is tested over posed camera paths by the frame tests.
+    struct Tr : ObjectStates<TrObjectState> {
+      TrCoherencyCuller culler;
+    };
+    auto tr = std::make_shared<Tr>();
+    out.push_back(make_method(
+                      describe("tr-coherency", published)
+                          .as("translation/rotation coherency; first frame is a full six-plane test")
+                          .from(am + "§3.5, fig. 7")
+                          .claims(Claim::conservative, kDerivedTol)
+                          .on(kAabbKind)
+                          .touching(kTouchPn)
+                          .stateful(),
+                      [tr](const CaseFrustum& f) {
+                        tr->culler.begin_frame(f.planes);
+                        tr->next = 0;
+                        return tr;
+                      },
+                      [](std::shared_ptr<Tr>& s, const Aabb& b) { return s->culler.classify(b, s->next_state()); })
+                      .on_reset([tr] {
+                        tr->culler = TrCoherencyCuller();
+                        tr->clear();
+                      }));
+  }
 }
 
 }  // namespace cullproof::detail

@@ -29,8 +29,14 @@
 // to this frustum).
 //
 // Contracts the harness relies on: prepare and classify of a method that is not stateful may run
-// concurrently on different frames; a stateful method (frame coherency) is run on one thread,
-// reset() before each camera path, and sees the frames of a path in order.
+// concurrently on different frames. A stateful method (frame coherency) is run on one thread and
+// reset() before each camera path; it sees the frames of a path in order, each frame prepared
+// and then classified in full before the next is prepared, and every frame of a path presents
+// the same objects (those of the kinds it takes) in the same order: through classify_batch, one
+// call per kind in the order points, spheres, boxes, OBBs, when the method has an array form;
+// otherwise classify once per object, in path order. So the k-th volume classified in a frame is
+// object k, which is how a method keys its per-object state. A case outside a camera path is a
+// path of one frame and one object. (See gen::CameraPath for the paths the campaign draws.)
 #pragma once
 
 #include "cullproof/frustum_build.hpp"
@@ -50,7 +56,7 @@
 
 namespace cullproof {
 
-/// What a method promises (docs/semantics.md "Claims").
+/// What a method promises (README "Semantics").
 enum class Claim {
   certified_conservative,  ///< never a false reject or false inside, rounding included
   certified_exact,         ///< as above, and no other error beyond a proven band
@@ -140,7 +146,8 @@ class Method : public MethodInfo {
     return *this;
   }
   /// One volume against one frustum, set-up included (a convenience: the harness prepares once
-  /// per frame). std::nullopt when the method does not apply.
+  /// per frame); a stateful method is reset() first (a camera path of one frame). std::nullopt
+  /// when the method does not apply.
   Answer classify(const CaseFrustum& f, const Volume& v) const;
 
  private:
