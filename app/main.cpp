@@ -229,6 +229,19 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
     std::cerr << "cullproof corpus show: no case with id '" << id << "' under " << dir << "\n";
     return 2;
   }
+  if (action == "rerecord") {
+    const Method* m = find_builtin(id);
+    if (!m) {
+      std::cerr << "cullproof corpus rerecord: no method named '" << id << "' (see cullproof methods)\n";
+      return 2;
+    }
+    const std::vector<Rerecorded> changed = rerecord_verdicts(dir, *m);
+    for (const Rerecorded& r : changed)
+      std::printf("%s: %s %s -> %s\n", r.file.string().c_str(), m->name.c_str(), r.before.c_str(),
+                  r.after.empty() ? "(does not apply)" : r.after.c_str());
+    std::printf("%zu record(s) rewritten with %s's verdict now\n", changed.size(), m->name.c_str());
+    return 0;
+  }
   // replay
   std::size_t still = 0, fixed = 0, changed = 0, truth_changed = 0, regressed = 0;
   for (const auto& e : entries) {
@@ -289,8 +302,10 @@ int main(int argc, char** argv) {
 
   std::string corpus_action, corpus_id, corpus_root = "corpus";
   auto* corpus_cmd = app.add_subcommand("corpus", "Inspect and replay the mismatch corpus");
-  corpus_cmd->add_option("action", corpus_action, "list | show | replay")->required()->check(CLI::IsMember({"list", "show", "replay"}));
-  corpus_cmd->add_option("id", corpus_id, "Case id (for show)");
+  corpus_cmd->add_option("action", corpus_action, "list | show ID | replay | rerecord METHOD (after a deliberate change to METHOD: its verdict in every record taken again)")
+      ->required()
+      ->check(CLI::IsMember({"list", "show", "replay", "rerecord"}));
+  corpus_cmd->add_option("id", corpus_id, "Case id (show), method name (rerecord)");
   corpus_cmd->add_option("--dir", corpus_root, "Corpus directory")->capture_default_str();
 #endif
 
@@ -316,6 +331,10 @@ int main(int argc, char** argv) {
     if (*corpus_cmd) {
       if (corpus_action == "show" && corpus_id.empty()) {
         std::cerr << "cullproof corpus show: needs a case id (see 'cullproof corpus list')\n";
+        return 2;
+      }
+      if (corpus_action == "rerecord" && corpus_id.empty()) {
+        std::cerr << "cullproof corpus rerecord: needs a method name (see 'cullproof methods')\n";
         return 2;
       }
       return cmd_corpus(corpus_action, corpus_root, corpus_id);

@@ -42,15 +42,16 @@ ErrorClass error_class(Visibility verdict, Visibility truth, bool three_way) noe
   return truth == Visibility::outside ? ErrorClass::false_intersect : ErrorClass::under_inside;
 }
 
-bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale) noexcept {
+bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale, bool float_exact) noexcept {
   if (e == ErrorClass::correct) return false;
   const bool hard = e == ErrorClass::false_reject || e == ErrorClass::false_inside;
-  const bool within = distance <= tolerance * scale;
+  const bool within = distance <= tolerance * scale;  // a certified band, or the rounding allowance
+  const bool allowed = within && !float_exact;         // the rounding allowance: only where things round
   switch (claim) {
     case Claim::certified_conservative: return hard;
     case Claim::certified_exact: return hard || !within;
-    case Claim::conservative: return hard && !within;
-    case Claim::exact: return !within;
+    case Claim::conservative: return hard && !allowed;
+    case Claim::exact: return !allowed;
     case Claim::none: return false;
   }
   return false;
@@ -447,6 +448,7 @@ struct CaseOutcome {
   std::vector<std::int8_t> verdict;  // -1: method does not apply; else Visibility
   double distance = std::numeric_limits<double>::quiet_NaN();  // oracle distance, erring cases only
   double scale = 0.0;                                          // gen::case_scale, erring cases only
+  bool float_exact = false;                                    // gen::float_exact
 };
 
 std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
@@ -473,7 +475,7 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
         if (violation) {
           const oracle::Result r = oracle::classify(c.frustum, c.volume, oracle::Options{true, true, false});
           if (!violates_claim(m.claim, cls, error_distance(c.frustum, c.volume, cls, r.distance), m.tolerance,
-                              gen::case_scale(c.frustum, c.volume)))
+                              gen::case_scale(c.frustum, c.volume), gen::float_exact(c.frustum, c.volume)))
             continue;
         }
         {
@@ -553,7 +555,9 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   if (!m.three_way) x["two_way"] = true;
   const double scale = gen::case_scale(g.frustum, g.volume);
   const double backward = backward_distance(g.frustum, g.volume, cls);
-  x["violates_claim"] = violates_claim(m.claim, cls, std::min(r.distance, backward), m.tolerance, scale);
+  const bool exact_case = gen::float_exact(g.frustum, g.volume);
+  x["violates_claim"] = violates_claim(m.claim, cls, std::min(r.distance, backward), m.tolerance, scale, exact_case);
+  x["float_exact"] = exact_case;
   x["backward_distance"] = std::isfinite(backward) ? nlohmann::json(backward) : nlohmann::json(nullptr);
   x["distribution"] = std::string(gen::to_string(d));
   x["distance"] = std::isfinite(r.distance) ? nlohmann::json(r.distance) : nlohmann::json(nullptr);
@@ -830,6 +834,7 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
     tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
         out[i].truth = oracle::truth(cases[i].frustum, cases[i].volume);
+        out[i].float_exact = gen::float_exact(cases[i].frustum, cases[i].volume);
         out[i].verdict.resize(ms.size(), std::int8_t(-1));
         for (std::size_t k = 0; k < ms.size(); ++k)
           if (!ms[k].stateful) run_one(i, k);
@@ -901,6 +906,7 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
     dr.cases = per;
     dr.oracle_calls = st1.calls - st0.calls;
     dr.oracle_fallbacks = st1.fallbacks - st0.fallbacks;
+    for (const CaseOutcome& o : out) dr.float_exact_cases += o.float_exact;
     for (std::size_t k = 0; k < ms.size(); ++k) {
       const Method& m = ms[k];
       MethodStats s;
@@ -929,10 +935,12 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
         const bool hard = cls == ErrorClass::false_reject || cls == ErrorClass::false_inside;
         const bool tolerant = m.claim == Claim::exact || m.claim == Claim::certified_exact ||
                               (m.claim == Claim::conservative && hard);
-        const double dist = tolerant && out[i].distance > m.tolerance * scale
+        const bool banded = m.claim == Claim::certified_exact;  // a proven band, float-exact or not
+        const double dist = tolerant && (banded || !out[i].float_exact) && out[i].distance > m.tolerance * scale
                                 ? error_distance(cases[i].frustum, cases[i].volume, cls, out[i].distance)
                                 : out[i].distance;
-        const bool violation = violates_claim(m.claim, cls, dist, m.tolerance, scale);
+        const bool violation = violates_claim(m.claim, cls, dist, m.tolerance, scale, out[i].float_exact);
+        if (violation && out[i].float_exact) ++s.float_exact_violations;
         if (violation) ++s.claim_violations;
         if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(out[i].distance / cases[i].scene_size);
         // Corpus: up to kViolationsPerClass claim violations per (method, distribution, class),
@@ -998,8 +1006,8 @@ std::string ns(double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : 
 
 void print_tables(const VerifyResult& r, std::ostream& out) {
   for (const auto& d : r.distributions) {
-    out << fmt::format("\n## {} ({} cases: {}; oracle fallback to exact LP {:.1f}%)\n\n", gen::to_string(d.distribution),
-                       d.cases, gen::describe(d.distribution),
+    out << fmt::format("\n## {} ({} cases: {}; {} float-exact; oracle fallback to exact LP {:.1f}%)\n\n",
+                       gen::to_string(d.distribution), d.cases, gen::describe(d.distribution), d.float_exact_cases,
                        d.oracle_calls ? 100.0 * double(d.oracle_fallbacks) / double(d.oracle_calls) : 0.0);
     out << "| method | origin | claim | cases | false rejects | false inside | false-intersect % (95% CI) | under-inside % "
            "| FI distance / scene (median / max) | set-up ns/frame | ns/test |\n";
@@ -1007,7 +1015,10 @@ void print_tables(const VerifyResult& r, std::ostream& out) {
     for (const auto& m : d.methods) {
       const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
       std::string status = m.claim == Claim::none ? "none"
-                           : m.refuted()          ? fmt::format("{} REFUTED ({})", to_string(m.claim), m.claim_violations)
+                           : m.refuted()          ? fmt::format("{} REFUTED ({}{})", to_string(m.claim), m.claim_violations,
+                                                                m.float_exact_violations
+                                                                    ? fmt::format("; {} float-exact", m.float_exact_violations)
+                                                                    : std::string())
                                                   : fmt::format("{} held", to_string(m.claim));
       if (!m.three_way) status += ", two-way";
       out << fmt::format("| {} | {} | {} | {} | {} | {} | {} ({}-{}) | {} | {} | {} | {}{} |\n", m.method,
@@ -1044,6 +1055,7 @@ nlohmann::json to_json(const VerifyResult& r) {
     jd["cases"] = d.cases;
     jd["oracle_calls"] = d.oracle_calls;
     jd["oracle_fallbacks"] = d.oracle_fallbacks;
+    jd["float_exact_cases"] = d.float_exact_cases;
     for (const auto& m : d.methods) {
       const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
       std::vector<double> dist = m.fi_distance;
@@ -1054,6 +1066,7 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"three_way", m.three_way},
                                {"refuted", m.refuted()},
                                {"claim_violations", m.claim_violations},
+                               {"float_exact_violations", m.float_exact_violations},
                                {"cases", m.cases},
                                {"truth", {{"outside", m.truth_outside}, {"intersecting", m.truth_intersecting}, {"inside", m.truth_inside}}},
                                {"false_reject", m.false_reject},

@@ -113,4 +113,22 @@ ReplayResult replay(const CorpusEntry& e, const std::vector<Method>& methods) {
   return r;
 }
 
+std::vector<Rerecorded> rerecord_verdicts(const std::filesystem::path& dir, const Method& m) {
+  std::vector<Rerecorded> out;
+  for (CorpusEntry& e : load_corpus(dir)) {
+    if (e.method == m.name) continue;
+    auto it = e.c.extra.find("verdicts");
+    if (it == e.c.extra.end() || !it->is_object() || !it->contains(m.name)) continue;
+    const Answer now = e.path && m.stateful ? checked_classify_path(m, *e.path) : checked_classify(m, e.c.frustum, e.c.volume);
+    const std::string before = (*it)[m.name].is_string() ? (*it)[m.name].get<std::string>() : (*it)[m.name].dump();
+    const std::string after = now ? std::string(to_string(*now)) : std::string();
+    if (before == after) continue;
+    if (now) (*it)[m.name] = after;
+    else it->erase(m.name);
+    write_case_file(e.file, e.c, /*overwrite=*/true);
+    out.push_back(Rerecorded{e.file, before, after});
+  }
+  return out;
+}
+
 }  // namespace cullproof

@@ -38,8 +38,10 @@ const char* to_string(ErrorClass e) noexcept;
 /// answers `intersecting` for "visible": it is never charged with an under-inside.
 ErrorClass error_class(Visibility verdict, Visibility truth, bool three_way = true) noexcept;
 /// Whether an error of class `e` at exact boundary distance `distance` breaks `claim`, for a
-/// method with rounding tolerance `tolerance` (relative to `scale`, see Method::tolerance).
-bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale) noexcept;
+/// method with rounding tolerance `tolerance` (relative to `scale`, see Method::tolerance). On a
+/// float-exact case (gen::float_exact) nothing rounds, so `conservative` and `exact` claims get no
+/// allowance: every error they forbid breaks them, however close to the boundary.
+bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale, bool float_exact) noexcept;
 
 /// How far an error of class `e` lies from being right, as a backward error in the planes: the
 /// smallest shift delta of the (normalised) frustum planes, all outward or all inward, under
@@ -138,6 +140,7 @@ struct MethodStats {
   std::uint64_t truth_outside = 0, truth_intersecting = 0, truth_inside = 0;
   std::uint64_t false_reject = 0, false_inside = 0, false_intersect = 0, under_inside = 0;
   std::uint64_t claim_violations = 0;
+  std::uint64_t float_exact_violations = 0;  ///< of claim_violations, on float-exact cases (no allowance)
   std::vector<double> fi_distance;  ///< relative distances of false intersects
   double ns_per_test = 0.0;         ///< classify, per volume, in frames (NaN: not timed)
   double ns_setup_per_frame = 0.0;  ///< prepare, per frame (NaN: not timed)
@@ -150,6 +153,7 @@ struct DistributionResult {
   gen::Distribution distribution{};
   std::uint64_t cases = 0;
   std::uint64_t oracle_calls = 0, oracle_fallbacks = 0;
+  std::uint64_t float_exact_cases = 0;  ///< cases on which nothing rounds (gen::float_exact)
   std::vector<MethodStats> methods;
 };
 

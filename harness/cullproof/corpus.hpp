@@ -52,4 +52,15 @@ ReplayResult replay(const CorpusEntry& e);
 /// The same with `methods` (a user's corpus records the user's methods).
 ReplayResult replay(const CorpusEntry& e, const std::vector<Method>& methods);
 
+/// One record whose "verdicts" entry for a method was taken again.
+struct Rerecorded {
+  std::filesystem::path file;
+  std::string before, after;  ///< the recorded verdict and the one now ("" when it does not apply)
+};
+/// After a deliberate change to method `m`: takes its verdict again in the "verdicts" of every
+/// record under `dir` that lists it, and rewrites (atomically) the records where it changed.
+/// Records of m's own errors are left alone: evidence that no longer reproduces is moved out of the
+/// corpus by hand. Returns the records rewritten.
+std::vector<Rerecorded> rerecord_verdicts(const std::filesystem::path& dir, const Method& m);
+
 }  // namespace cullproof

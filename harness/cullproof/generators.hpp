@@ -117,6 +117,22 @@ CameraPath draw_path(std::uint64_t seed, std::uint64_t path);
 /// One case of a path.
 GenCase path_case(const CameraPath& p, std::size_t frame, std::size_t object);
 
+/// Whether the case is float-exact (CONVENTIONS "Claims": where nothing rounds, nothing is
+/// forgiven): nothing a plane test computes on it rounds in float. Decided exactly, in rational
+/// arithmetic on the float values:
+///  - every plane of the case (for a matrix case, the Gribb-Hartmann row sums the extraction takes
+///    are floats, so the planes a culler gets are the exact planes), at every vertex of the volume
+///    (the point; the eight corners of an AABB): each product n_i x_i is a float, and so is every
+///    sum of two or more of n_0 x_0, n_1 x_1, n_2 x_2, d (every partial sum of any evaluation order);
+///  - a sphere: every plane with a nonzero normal has n.n == 1 exactly, and the sums of
+///    n_i c_i, d and the radius are floats;
+///  - an OBB: its corners c + sum_i (+-h_i u_i) compute exactly (each h_i u_ik and every partial
+///    sum is a float) and the plane sums at them are floats; and its projected form does too:
+///    n.c + d, each n.u_i, h_i |n.u_i|, their sums, and the centre value minus and plus the
+///    projected half-width.
+/// On a float-exact case a `conservative` or `exact` claim has no rounding allowance.
+bool float_exact(const CaseFrustum& f, const Volume& v);
+
 /// The scale against which rounding tolerances are measured (see Method::tolerance): the largest,
 /// over the planes, of what evaluating the plane at the volume rounds, in distance units,
 /// (sum_i a_i M + a_d) / |n|, with M the volume's largest coordinate magnitude and a the bound

@@ -29,7 +29,7 @@
 namespace cullproof::testing {
 
 struct ClaimOptions {
-  std::uint64_t cases = 2000;  ///< per distribution (every family: 14 x 2000 by default)
+  std::uint64_t cases = 2000;  ///< per distribution (every family: 15 x 2000 by default)
   std::uint64_t seed = 1;
   /// Every distribution, generic and hard, unless set.
   std::vector<gen::Distribution> distributions = gen::parse_distributions("all");

@@ -17,9 +17,11 @@
 // the argument holds for the bounding sphere (if the sphere is inside the nearer plane of a
 // pair it is inside the farther one), but a box thin along one normal and long along the other
 // can be inside the outer plane and cross the inner one, which would be a false inside.
-// classify_corrected: `outside` as published (a real plane rejects); `inside` only when the
-// bounding sphere (radius d2) is inside the three outer planes, or when the n-vertices of the
-// three inner planes confirm it; otherwise intersecting. Claim: conservative.
+// classify_corrected: `outside` when one of the three outer planes, as given (normalising rounds:
+// a box exactly touching a plane could be culled), rejects the box; `inside` only when the three
+// accept all of it and the bounding sphere (radius d2) is inside both planes of every pair with
+// a margin for double rounding, or the n/p-vertex tests of the three inner planes confirm it;
+// otherwise intersecting. Claim: conservative, with no rounding allowance on float-exact cases.
 // Touching: as pn_vertex (touching from outside: intersecting; from inside: inside).
 #include "cullproof/cull_coherence.hpp"
 
@@ -49,7 +51,9 @@ OctantCuller::OctantCuller(const Frustum& frustum) {
   if (!is_symmetric(frustum, 1e-5))
     throw CullerPreconditionError("octant: frustum is not symmetric (A&M 2000 §3.3 and footnote 6: "
                                   "for asymmetric frustums the octant test cannot be used)");
+  given_ = frustum;
   planes_ = frustum.normalized();
+  for (int i = 0; i < kPlaneCount; ++i) inv_len_[i] = 1.0 / glm::length(glm::dvec3(frustum[i].n));
   const glm::dvec3 c = frustum_center(frustum);
   d1_ = std::numeric_limits<double>::infinity();
   for (int i = 0; i < kPlaneCount; ++i) {
@@ -87,28 +91,41 @@ Visibility OctantCuller::classify(const Aabb& box) const noexcept {
 Visibility OctantCuller::classify_corrected(const Aabb& box) const noexcept {
   const glm::vec3 h = box.half_extent();
   const double d2_sq = double(h.x) * h.x + double(h.y) * h.y + double(h.z) * h.z;
-  if (!(d2_sq <= d1_sq_)) return pn_vertex(planes_, box);
+  if (!(d2_sq <= d1_sq_)) return pn_vertex(given_, box);
   const glm::vec3 c = box.center();
   int outer[3], inner[3];
-  bool sphere_inside = true;
   for (int k = 0; k < 3; ++k) {
     const int a = 2 * k, b = 2 * k + 1;
-    const float va = planes_[a].eval(c), vb = planes_[b].eval(c);
-    outer[k] = va <= vb ? a : b;
-    inner[k] = va <= vb ? b : a;
-    const double m = std::min(va, vb);
-    sphere_inside = sphere_inside && m >= 0.0 && m * m >= d2_sq;
+    const bool a_outer = planes_[a].eval(c) <= planes_[b].eval(c);
+    outer[k] = a_outer ? a : b;
+    inner[k] = a_outer ? b : a;
   }
   bool intersect = false;
   for (int k = 0; k < 3; ++k) {
-    const int r = plane_test(planes_[outer[k]], box);
+    const int r = plane_test(given_[outer[k]], box);
     if (r == 0) return Visibility::outside;
     if (r == 1) intersect = true;
   }
-  if (sphere_inside) return Visibility::inside;
   if (intersect) return Visibility::intersecting;
+  // The bounding sphere, centre and radius in double (exact from the float corners: halves and
+  // sums of floats), against both planes of each pair: its signed distance minus the radius must
+  // exceed what the double evaluation can round (4 roundings of the sum, the length, the
+  // division: 8 units of 2^-53 of the magnitudes involved, generously).
+  const glm::dvec3 cd = (glm::dvec3(box.min) + glm::dvec3(box.max)) * 0.5;
+  const glm::dvec3 hd = (glm::dvec3(box.max) - glm::dvec3(box.min)) * 0.5;
+  const double d2 = glm::length(hd);
+  constexpr double kUnit = 0x1p-53;
+  bool sphere_inside = true;
+  for (int i = 0; i < kPlaneCount && sphere_inside; ++i) {
+    const Plane& p = given_[i];
+    const double terms[4] = {double(p.n.x) * cd.x, double(p.n.y) * cd.y, double(p.n.z) * cd.z, double(p.d)};
+    const double v = (terms[0] + terms[1] + terms[2] + terms[3]) * inv_len_[i];
+    const double mag = (std::abs(terms[0]) + std::abs(terms[1]) + std::abs(terms[2]) + std::abs(terms[3])) * inv_len_[i];
+    sphere_inside = v - d2 > 16 * kUnit * (mag + d2);
+  }
+  if (sphere_inside) return Visibility::inside;
   for (int k = 0; k < 3; ++k)
-    if (plane_test(planes_[inner[k]], box) != 2) return Visibility::intersecting;
+    if (plane_test(given_[inner[k]], box) != 2) return Visibility::intersecting;
   return Visibility::inside;
 }
 

@@ -50,14 +50,20 @@ class OctantCuller {
   explicit OctantCuller(const Frustum& frustum);
   /// As published: n/p-vertex test against the three outer planes.
   Visibility classify(const Aabb& box) const noexcept;
-  /// Corrected: `outside` as published; `inside` only when the box's bounding sphere is inside
-  /// the three outer planes (which implies all six) or the three inner planes confirm it.
+  /// Corrected: the three outer planes are tested as given (not normalised: a box touching a plane
+  /// is not culled for what normalisation rounds), `outside` when one rejects; `inside` only when
+  /// those three accept the whole box and either the box's bounding sphere is inside both planes
+  /// of every pair, by more than what evaluating in double can round, or the n/p-vertex tests of
+  /// the three inner planes confirm it. The fig. 6 fallback is the n/p-vertex test on the given
+  /// planes.
   Visibility classify_corrected(const Aabb& box) const noexcept;
   /// d1: distance from the frustum centre to its nearest plane.
   double centre_distance() const noexcept { return d1_; }
 
  private:
-  Frustum planes_;      // normalised
+  Frustum given_;        // as the frustum came
+  Frustum planes_;       // normalised (as published)
+  double inv_len_[6] = {};  // 1 / |n| of the given planes, in double
   double d1_ = 0.0;
   double d1_sq_ = 0.0;
 };

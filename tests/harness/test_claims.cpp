@@ -51,7 +51,7 @@ TEST_P(Claims, HoldAgainstTheOracle) {
       const oracle::Result r = oracle::classify(g.frustum, g.volume, {true, true, false});
       const double scale = gen::case_scale(g.frustum, g.volume);
       const double dist = error_distance(g.frustum, g.volume, cls, r.distance);
-      if (!violates_claim(m.claim, cls, dist, m.tolerance, scale)) continue;
+      if (!violates_claim(m.claim, cls, dist, m.tolerance, scale, gen::float_exact(g.frustum, g.volume))) continue;
       if (refuted.count(m.name)) {
         ++reported[m.name];  // known: the corpus holds the evidence
         continue;

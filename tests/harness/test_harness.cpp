@@ -23,15 +23,23 @@ TEST(ErrorClass, ConventionsTable) {
 
 TEST(Claims, RulesPerClaim) {
   // distance 1e-3 with tolerance 1e-5 at scale 10: beyond tolerance (1e-4); 1e-5: within.
-  EXPECT_TRUE(violates_claim(Claim::certified_conservative, ErrorClass::false_reject, 0.0, 0.0, 1.0));
-  EXPECT_FALSE(violates_claim(Claim::certified_conservative, ErrorClass::false_intersect, 5.0, 0.0, 1.0));
-  EXPECT_TRUE(violates_claim(Claim::conservative, ErrorClass::false_inside, 1e-3, 1e-5, 10.0));
-  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::false_inside, 1e-5, 1e-5, 10.0));
-  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::false_intersect, 7.0, 1e-5, 10.0));
-  EXPECT_TRUE(violates_claim(Claim::exact, ErrorClass::false_intersect, 7.0, 1e-5, 10.0));
-  EXPECT_FALSE(violates_claim(Claim::exact, ErrorClass::under_inside, 1e-6, 1e-5, 10.0));
-  EXPECT_TRUE(violates_claim(Claim::certified_exact, ErrorClass::false_inside, 0.0, 1.0, 1.0));
-  EXPECT_FALSE(violates_claim(Claim::none, ErrorClass::false_reject, 100.0, 0.0, 1.0));
+  EXPECT_TRUE(violates_claim(Claim::certified_conservative, ErrorClass::false_reject, 0.0, 0.0, 1.0, false));
+  EXPECT_FALSE(violates_claim(Claim::certified_conservative, ErrorClass::false_intersect, 5.0, 0.0, 1.0, false));
+  EXPECT_TRUE(violates_claim(Claim::conservative, ErrorClass::false_inside, 1e-3, 1e-5, 10.0, false));
+  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::false_inside, 1e-5, 1e-5, 10.0, false));
+  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::false_intersect, 7.0, 1e-5, 10.0, false));
+  EXPECT_TRUE(violates_claim(Claim::exact, ErrorClass::false_intersect, 7.0, 1e-5, 10.0, false));
+  EXPECT_FALSE(violates_claim(Claim::exact, ErrorClass::under_inside, 1e-6, 1e-5, 10.0, false));
+  EXPECT_TRUE(violates_claim(Claim::certified_exact, ErrorClass::false_inside, 0.0, 1.0, 1.0, false));
+  EXPECT_FALSE(violates_claim(Claim::none, ErrorClass::false_reject, 100.0, 0.0, 1.0, false));
+  // Float-exact cases: no rounding allowance for conservative and exact claims, at any distance;
+  // a certified band is not a rounding allowance and stays.
+  EXPECT_TRUE(violates_claim(Claim::conservative, ErrorClass::false_reject, 0.0, 1e-5, 10.0, true));
+  EXPECT_TRUE(violates_claim(Claim::conservative, ErrorClass::false_inside, 1e-5, 1e-5, 10.0, true));
+  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::false_intersect, 0.0, 1e-5, 10.0, true));
+  EXPECT_TRUE(violates_claim(Claim::exact, ErrorClass::under_inside, 0.0, 1e-5, 10.0, true));
+  EXPECT_FALSE(violates_claim(Claim::certified_exact, ErrorClass::false_intersect, 0.5, 1.0, 1.0, true));
+  EXPECT_FALSE(violates_claim(Claim::none, ErrorClass::false_reject, 0.0, 0.0, 1.0, true));
 }
 
 TEST(Wilson, KnownIntervals) {
@@ -146,5 +154,24 @@ TEST(Campaign, SameSeedSameVerdictsAndCorpusDeduplicates) {
     for (const auto& m : d.methods) written_again += m.corpus_written.size();
   EXPECT_EQ(written_again, 0u);  // the same minimal cases exist already
   EXPECT_EQ(load_corpus(dir).size(), entries.size());
+
+  // rerecord_verdicts after a (pretended) change to pn-vertex-reverse: a record whose
+  // "verdicts" lists another answer for it is rewritten with the answer now, and only that entry.
+  const CorpusEntry* other = nullptr;
+  for (const CorpusEntry& e : entries)
+    if (e.method == "hoff96" && e.c.extra.at("verdicts").contains("pn-vertex-reverse")) other = &e;
+  ASSERT_NE(other, nullptr);
+  Case edited = other->c;
+  const std::string now = edited.extra["verdicts"]["pn-vertex-reverse"].get<std::string>();
+  const std::string wrong = now == "outside" ? "inside" : "outside";
+  edited.extra["verdicts"]["pn-vertex-reverse"] = wrong;
+  write_case_file(other->file, edited, true);
+  const std::vector<Rerecorded> changed = rerecord_verdicts(dir, *find_builtin("pn-vertex-reverse"));
+  ASSERT_EQ(changed.size(), 1u);
+  EXPECT_EQ(changed[0].file, other->file);
+  EXPECT_EQ(changed[0].before, wrong);
+  EXPECT_EQ(changed[0].after, now);
+  EXPECT_EQ(format_case(read_case_file(other->file), true), format_case(other->c, true)) << "only that entry changes";
+  EXPECT_TRUE(rerecord_verdicts(dir, *find_builtin("pn-vertex-reverse")).empty());
   std::filesystem::remove_all(dir);
 }
