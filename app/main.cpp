@@ -212,11 +212,11 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
                 << oracle::to_string(t.distance_kind) << ")\n";
       if (e.path)
         std::cout << "camera path: " << e.path->frames.size() << " frame(s) (" << e.path->motion << "), "
-                  << e.path->objects.size() << " object(s); stateful methods are run over it\n";
+                  << e.path->objects.size() << " object(s); verdicts are taken over it\n";
       std::cout << "verdicts now:\n";
       for (const Method& m : builtin_methods()) {
         if (!m.takes(e.c.volume)) continue;
-        const auto v = e.path && m.stateful ? checked_classify_path(m, *e.path) : m.classify(e.c.frustum, e.c.volume);
+        const auto v = e.path ? checked_classify_path(m, *e.path) : m.classify(e.c.frustum, e.c.volume);
         if (!v) continue;
         const ErrorClass cls = error_class(*v, t.truth, m.three_way);
         std::printf("  %-26s %-13s %s\n", m.name.c_str(), std::string(to_string(*v)).c_str(),

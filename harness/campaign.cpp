@@ -222,12 +222,12 @@ struct PathFault : std::runtime_error {
   std::size_t frame, object;
 };
 
-// Runs stateful method `m` over frames[0..last] of a camera path with `objects` (see the contract
-// in cullproof/methods.hpp); sink(frame, object, answer) for each object it takes, every frame.
-// Throws PathFault.
+// Runs method `m` over frames[first..last] of a camera path with `objects` (see the contract in
+// cullproof/methods.hpp), after reset() when `reset`; sink(frame, object, answer) for each object
+// it takes, every frame. Throws PathFault.
 template <class Sink>
-void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size_t last, const std::vector<Volume>& objects,
-              Sink&& sink) {
+void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size_t first, std::size_t last,
+              const std::vector<Volume>& objects, Sink&& sink, bool reset = true) {
   std::vector<std::size_t> order;  // objects the method takes, in path order
   std::vector<Point> points;
   std::vector<Sphere> spheres;
@@ -255,9 +255,9 @@ void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size
       throw PathFault(e.what(), f, o);
     }
   };
-  guarded(0, order[0], " in reset()", [&] { m.reset(); });
+  if (reset) guarded(first, order[0], " in reset()", [&] { m.reset(); });
   std::vector<Answer> answers;
-  for (std::size_t f = 0; f <= last; ++f) {
+  for (std::size_t f = first; f <= last; ++f) {
     std::unique_ptr<PreparedFrustum> p;
     guarded(f, order[0], " in prepare", [&] { p = m.prepare(frames[f]); });
     if (!p) {
@@ -305,12 +305,16 @@ Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v) 
 Answer checked_classify_path(const Method& m, const PathCase& p) {
   if (p.frames.empty() || p.object >= p.objects.size())
     throw std::invalid_argument("checked_classify_path: a path case needs a frame and its object among the objects");
-  if (!m.stateful) return checked_classify(m, p.frustum(), p.volume());
   Answer out;
+  const std::size_t last = p.frames.size() - 1;
   try {
-    run_path(m, p.frames, p.frames.size() - 1, p.objects, [&](std::size_t f, std::size_t o, const Answer& a) {
-      if (f + 1 == p.frames.size() && o == p.object) out = a;
-    });
+    // A stateful method over the whole path from a reset; any other over the last frame alone.
+    run_path(
+        m, p.frames, m.stateful ? 0 : last, last, p.objects,
+        [&](std::size_t f, std::size_t o, const Answer& a) {
+          if (f == last && o == p.object) out = a;
+        },
+        /*reset=*/m.stateful);
   } catch (const PathFault& e) {
     throw std::runtime_error(fmt::format("{} (camera path frame {}, object {})", e.what(), e.frame, e.object));
   }
@@ -571,7 +575,7 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   if (path) x["path"] = to_json(*path);
   nlohmann::json verdicts = nlohmann::json::object();
   for (const Method& o : all)
-    if (auto v = path && o.stateful ? checked_classify_path(o, *path) : run_method(o, g))
+    if (auto v = path ? checked_classify_path(o, *path) : run_method(o, g))
       verdicts[o.name] = std::string(to_string(*v));
   x["verdicts"] = verdicts;
   const auto file = dir / m.name / gen::to_string(d) / fmt::format("{}-{}.json", to_string(cls), hash);
@@ -836,11 +840,42 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
         out[i].truth = oracle::truth(cases[i].frustum, cases[i].volume);
         out[i].float_exact = gen::float_exact(cases[i].frustum, cases[i].volume);
         out[i].verdict.resize(ms.size(), std::int8_t(-1));
-        for (std::size_t k = 0; k < ms.size(); ++k)
-          if (!ms[k].stateful) run_one(i, k);
+        if (!on_paths)
+          for (std::size_t k = 0; k < ms.size(); ++k)
+            if (!ms[k].stateful) run_one(i, k);
       }
       progress.add(r.size());
     });
+    // On camera paths every method meets each frame as an engine does: prepared once, then the
+    // frame's objects classified in order (so a state leaking from one volume to the next within
+    // a frame is exercised); the methods that are not stateful frame by frame in parallel.
+    if (on_paths) {
+      std::vector<std::pair<std::uint64_t, std::size_t>> frames;  // (path, frame) of the run's cases
+      for (std::uint64_t i = 0; i < per; ++i) {
+        const gen::PathIndex at = gen::path_index(first + i);
+        if (frames.empty() || frames.back() != std::make_pair(at.path, at.frame)) frames.emplace_back(at.path, at.frame);
+      }
+      tbb::parallel_for(std::size_t(0), frames.size(), [&](std::size_t u) {
+        const auto [number, f] = frames[u];
+        const gen::CameraPath& cp = paths.at(number);
+        for (std::size_t k = 0; k < ms.size(); ++k) {
+          if (ms[k].stateful) continue;
+          try {
+            run_path(
+                ms[k], cp.frames, f, f, cp.objects,
+                [&](std::size_t fr, std::size_t o, const Answer& a) {
+                  const std::uint64_t index = gen::path_case_index({number, fr, o});
+                  if (index >= first && index < first + per) out[index - first].verdict[k] = a ? std::int8_t(*a) : std::int8_t(-1);
+                },
+                /*reset=*/false);
+          } catch (const PathFault& e) {
+            note_fault(gen::path_case_index({number, e.frame, e.object}), k,
+                       fmt::format("{} (camera path frame {}, object {}; the frame's objects classified in order)", e.what(),
+                                   e.frame, e.object));
+          }
+        }
+      });
+    }
     // Stateful methods on one thread: over each camera path from its first frame to the last
     // frame a case of the run is on; elsewhere case by case, each a path of one frame.
     for (std::size_t k = 0; k < ms.size(); ++k) {
@@ -853,7 +888,7 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
         const std::uint64_t base = gen::path_case_index({number, 0, 0});
         const std::uint64_t last = std::min(base + gen::kPathFrames * gen::kPathObjects, first + per) - 1;
         try {
-          run_path(ms[k], cp.frames, gen::path_index(last).frame, cp.objects,
+          run_path(ms[k], cp.frames, 0, gen::path_index(last).frame, cp.objects,
                    [&](std::size_t f, std::size_t o, const Answer& a) {
                      const std::uint64_t index = gen::path_case_index({number, f, o});
                      if (index >= first && index < first + per) out[index - first].verdict[k] = a ? std::int8_t(*a) : std::int8_t(-1);
@@ -867,8 +902,9 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
     if (fault_index != std::numeric_limits<std::uint64_t>::max()) {
       progress.finish();
       const Method& m = ms[fault_method];
-      if (on_paths && m.stateful) {
-        const PathCase pc = path_case_at(fault_index);
+      if (on_paths) {
+        PathCase pc = path_case_at(fault_index);
+        if (!m.stateful) pc.frames = {pc.frames.back()};
         GenCase g = gen::path_case(paths.at(gen::path_index(fault_index).path), pc.frames.size() - 1, pc.object);
         fault(opt, m, d, fault_index, g, fault_problem, &pc);
       }
@@ -942,6 +978,7 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
         const bool violation = violates_claim(m.claim, cls, dist, m.tolerance, scale, out[i].float_exact);
         if (violation && out[i].float_exact) ++s.float_exact_violations;
         if (violation) ++s.claim_violations;
+        if (violation && !s.first_violation) s.first_violation = first + i;
         if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(out[i].distance / cases[i].scene_size);
         // Corpus: up to kViolationsPerClass claim violations per (method, distribution, class),
         // and corpus_per_class of the other errors (the expected false intersects and
@@ -952,8 +989,20 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
           ++quota;
           std::optional<PathCase> path;  // a stateful method's error on a camera path is kept with its path
           GenCase small;
-          if (on_paths && m.stateful) {
-            path = shrink_path(path_case_at(first + i), m, cls, t, opt.shrink_budget);
+          // On a camera path, an error that needs what came before (earlier frames for a stateful
+          // method, the frame's earlier objects for any) is kept with its path.
+          auto alone_shows_it = [&] {
+            try {
+              const Answer a = run_method(m, cases[i]);
+              return a && error_class(*a, t, m.three_way) == cls;
+            } catch (const std::exception&) {
+              return false;
+            }
+          };
+          if (on_paths && (m.stateful || !alone_shows_it())) {
+            PathCase pc = path_case_at(first + i);
+            if (!m.stateful) pc.frames = {pc.frames.back()};
+            path = shrink_path(std::move(pc), m, cls, t, opt.shrink_budget);
             small = cases[i];
           } else {
             small = shrink(gen::draw(d, opt.seed, first + i), m, cls, violation, opt.shrink_budget);
@@ -1036,8 +1085,9 @@ void print_tables(const VerifyResult& r, std::ostream& out) {
          "(two-way methods answer visible or outside: not charged).\n";
   if (r.options.timing)
     out << fmt::format("cost: set-up = prepare, once per frame; ns/test = classify per volume, {} frames of {} volumes "
-                       "per distribution, through the method's array form where it has one (batch).\n",
-                       r.options.timing_frames, r.options.frame_size);
+                       "per distribution (camera-path: {} consecutive frames of one path, {} volumes each), through "
+                       "the method's array form where it has one (batch).\n",
+                       r.options.timing_frames, r.options.frame_size, r.options.timing_frames, gen::kPathObjects);
   out << fmt::format("wall time {:.1f} s\n", r.wall_seconds);
 }
 
@@ -1067,6 +1117,7 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"refuted", m.refuted()},
                                {"claim_violations", m.claim_violations},
                                {"float_exact_violations", m.float_exact_violations},
+                               {"first_violation", m.first_violation ? nlohmann::json(*m.first_violation) : nlohmann::json(nullptr)},
                                {"cases", m.cases},
                                {"truth", {{"outside", m.truth_outside}, {"intersecting", m.truth_intersecting}, {"inside", m.truth_inside}}},
                                {"false_reject", m.false_reject},

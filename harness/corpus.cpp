@@ -95,7 +95,7 @@ ReplayResult replay(const CorpusEntry& e, const std::vector<Method>& methods) {
   r.truth_now = oracle::truth(e.c.frustum, e.c.volume);
   r.truth_changed = r.truth_now != *e.c.truth;
   auto answer = [&](const Method& m) {
-    return e.path && m.stateful ? checked_classify_path(m, *e.path) : checked_classify(m, e.c.frustum, e.c.volume);
+    return e.path ? checked_classify_path(m, *e.path) : checked_classify(m, e.c.frustum, e.c.volume);
   };
   if (const Method* m = find(e.method)) r.verdict_now = answer(*m);
   r.reproduces = r.verdict_now && *r.verdict_now == e.verdict;
@@ -119,7 +119,7 @@ std::vector<Rerecorded> rerecord_verdicts(const std::filesystem::path& dir, cons
     if (e.method == m.name) continue;
     auto it = e.c.extra.find("verdicts");
     if (it == e.c.extra.end() || !it->is_object() || !it->contains(m.name)) continue;
-    const Answer now = e.path && m.stateful ? checked_classify_path(m, *e.path) : checked_classify(m, e.c.frustum, e.c.volume);
+    const Answer now = e.path ? checked_classify_path(m, *e.path) : checked_classify(m, e.c.frustum, e.c.volume);
     const std::string before = (*it)[m.name].is_string() ? (*it)[m.name].get<std::string>() : (*it)[m.name].dump();
     const std::string after = now ? std::string(to_string(*now)) : std::string();
     if (before == after) continue;

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <set>
 #include <sstream>
@@ -150,6 +151,13 @@ VerifyResult verify_methods(const std::vector<Method>& methods, const ClaimOptio
     if (v == e.c.extra.end() || !v->is_boolean() || !v->get<bool>()) continue;
     if (ids.count(e.c.id) || ids.empty()) shown.push_back(std::move(e));
   }
+  // The first of the run's distributions that broke the claim is shown first.
+  auto rank = [&](const CorpusEntry& e) {
+    for (std::size_t k = 0; k < vo.distributions.size(); ++k)
+      if (gen::to_string(vo.distributions[k]) == e.distribution) return k;
+    return vo.distributions.size();
+  };
+  std::stable_sort(shown.begin(), shown.end(), [&](const CorpusEntry& a, const CorpusEntry& b) { return rank(a) < rank(b); });
   if (shown.empty()) {
     msg += fmt::format("  (no shrunk case could be written under {})\n", vo.corpus->string());
   } else {

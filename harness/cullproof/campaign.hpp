@@ -106,8 +106,10 @@ class MethodFault : public std::runtime_error {
 /// is not a verdict (or `inside`, being two-way).
 Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v);
 
-/// A case of a stateful method on a camera path: the frames up to the one it is judged on (the
-/// last), the objects the path shows every frame, and the one judged.
+/// A case on a camera path: the frames up to the one it is judged on (the last), the objects the
+/// path shows every frame, and the one judged. A stateful method needs the frames before; any
+/// method may need the objects classified before it in the frame (a state it keeps from one volume
+/// to the next).
 struct PathCase {
   std::vector<CaseFrustum> frames;
   std::vector<Volume> objects;
@@ -118,12 +120,12 @@ struct PathCase {
   const Volume& volume() const { return objects.at(object); }
 };
 
-/// Runs stateful method `m` over the path as the campaign does (reset(), then every frame in
-/// order, prepared and then classified in full: see cullproof/methods.hpp) and returns its answer
-/// for the object judged on the last frame; std::nullopt when it does not take the volume or does
-/// not apply. Checks every answer as checked_classify does and throws std::runtime_error naming
-/// the method, the frame and the object on a fault. For a method that is not stateful it is
-/// checked_classify of the last frame and the object.
+/// Runs method `m` over the path as the campaign does and returns its answer for the object judged
+/// on the last frame (std::nullopt when it does not take the volume or does not apply): a stateful
+/// method from reset() through every frame in order, each prepared and then classified in full
+/// (see cullproof/methods.hpp); any other on the last frame alone, prepared once with its objects
+/// classified in order. Checks every answer as checked_classify does and throws
+/// std::runtime_error naming the method, the frame and the object on a fault.
 Answer checked_classify_path(const Method& m, const PathCase& p);
 /// A path case as the corpus records it (field "path" of a case: motion, object, frames, objects
 /// in the case format's frustum and volume forms).
@@ -141,6 +143,8 @@ struct MethodStats {
   std::uint64_t false_reject = 0, false_inside = 0, false_intersect = 0, under_inside = 0;
   std::uint64_t claim_violations = 0;
   std::uint64_t float_exact_violations = 0;  ///< of claim_violations, on float-exact cases (no allowance)
+  /// The smallest case index (of the distribution) at which the claim broke, if it did.
+  std::optional<std::uint64_t> first_violation;
   std::vector<double> fi_distance;  ///< relative distances of false intersects
   double ns_per_test = 0.0;         ///< classify, per volume, in frames (NaN: not timed)
   double ns_setup_per_frame = 0.0;  ///< prepare, per frame (NaN: not timed)

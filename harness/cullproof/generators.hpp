@@ -18,8 +18,9 @@
 
 namespace cullproof::gen {
 
-/// Named case distributions. uniform .. degenerate and camera_path are the generic ones (the
-/// campaign's default); touch .. rod are the hard-case families, reported together as "all-hard".
+/// Named case distributions. uniform .. degenerate, contact and camera_path are the generic ones
+/// (the campaign's default); touch .. rod are the hard-case families, reported together as
+/// "all-hard".
 enum class Distribution {
   uniform,            ///< volumes of all sizes anywhere around the frustum
   near_boundary,      ///< within a few box sizes of a frustum face
@@ -36,6 +37,7 @@ enum class Distribution {
   ill_conditioned,    ///< unnormalised planes with huge and tiny coefficients, skewed OBB axes
   rod,                ///< long thin boxes crossing the frustum with no corner inside
   camera_path,        ///< a camera moving past fixed volumes, frame by frame (see CameraPath)
+  contact,            ///< float-exact (see float_exact) contact with faces, edges and corners, every frustum kind
 };
 
 /// Stable kebab-case name ("near-boundary", "far-offset", ...).
@@ -91,8 +93,8 @@ Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::s
 /// moves. Case `index` of the camera-path distribution is object `object` of frame `frame` of path
 /// `path` (path_index); a frame-coherent method sees the frames of a path in order, the same
 /// objects every frame (see cullproof/methods.hpp).
-constexpr std::size_t kPathFrames = 16;
-constexpr std::size_t kPathObjects = 128;
+constexpr std::size_t kPathFrames = 8;
+constexpr std::size_t kPathObjects = 32;
 struct CameraPath {
   std::vector<CaseFrustum> frames;
   std::vector<double> scene_size;  ///< per frame, as GenCase::scene_size

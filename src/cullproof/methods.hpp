@@ -36,7 +36,9 @@
 // call per kind in the order points, spheres, boxes, OBBs, when the method has an array form;
 // otherwise classify once per object, in path order. So the k-th volume classified in a frame is
 // object k, which is how a method keys its per-object state. A case outside a camera path is a
-// path of one frame and one object. (See gen::CameraPath for the paths the campaign draws.)
+// path of one frame and one object. A method that is not stateful also meets a camera-path frame
+// prepared once with its objects classified in order, so what its PreparedFrustum keeps from one
+// volume to the next is under test too. (See gen::CameraPath for the paths the campaign draws.)
 #pragma once
 
 #include "cullproof/frustum_build.hpp"

@@ -4,6 +4,7 @@
 #include "cullproof/exact.hpp"
 #include "cullproof/frustum_build.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cullproof {
@@ -40,7 +41,12 @@ std::optional<FrustumHull> frustum_hull(const Frustum& f) {
       const double s = glm::dot(r, glm::dvec3(f[kNear].n));
       if (s == 0.0 || glm::length(r) == 0.0) return std::nullopt;
       if (s < 0.0) r = -r;
-      h.rays.push_back(glm::vec3(r / glm::length(r)));
+      // Scaled by a power of two, not normalised: a unit direction rounds, and a ray that lies in
+      // an axis's plane would then project to +-tiny and unbound the range on a random side.
+      int e = 0;
+      std::frexp(std::max({std::abs(r.x), std::abs(r.y), std::abs(r.z)}), &e);
+      r = glm::dvec3(std::ldexp(r.x, -e), std::ldexp(r.y, -e), std::ldexp(r.z, -e));
+      h.rays.push_back(glm::vec3(r));
       h.ray_edges.emplace_back(i, i);
     }
   }

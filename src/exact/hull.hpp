@@ -17,7 +17,7 @@ namespace cullproof::exact_detail {
 struct FrustumHull {
   bool empty = false;                      ///< a plane with n == 0, d < 0: nothing is inside
   std::vector<glm::vec3> vertices;         ///< 8 corners (bounded) or the 4 near corners
-  std::vector<glm::vec3> rays;             ///< lateral edge directions (unbounded), else empty
+  std::vector<glm::vec3> rays;             ///< lateral edge directions (unbounded; largest component in [0.5, 1), not unit), else empty
   std::vector<std::pair<int, int>> edges;  ///< vertex index pairs (bounded edges)
   std::vector<std::pair<int, int>> ray_edges;  ///< (vertex index, ray index)
 };

@@ -12,6 +12,7 @@
 #include "cullproof/cull_coherence.hpp"
 #include "cullproof/methods.hpp"
 #include "cullproof/oracle.hpp"
+#include "mutants.hpp"
 
 #include <unistd.h>
 
@@ -149,43 +150,13 @@ TEST(CameraPaths, StatefulMethodsSeeEveryFrameInOrderWithTheSameObjects) {
   }
 }
 
-// A coherency cache that trusts a stale answer: an object culled last frame is culled again
-// without a test (a real cache must re-test, at least the plane that culled it).
-Method stale_cache(bool bug) {
-  struct Store {
-    std::vector<PlaneCoherencyCache> caches;
-    std::vector<bool> was_outside;
-    std::size_t next = 0;
-  };
-  auto store = std::make_shared<Store>();
-  MethodInfo info;
-  info.name = bug ? "stale-cache" : "plane-cache";
-  info.stateful = true;
-  info.claim = Claim::conservative;
-  info.tolerance = 1e-6;
-  Method m = make_method(
-      info,
-      [store](const CaseFrustum& f) {
-        store->next = 0;
-        return f.planes;
-      },
-      [store, bug](const Frustum& f, const Aabb& b) {
-        const std::size_t k = store->next++;
-        if (k == store->caches.size()) store->caches.emplace_back(), store->was_outside.push_back(false);
-        if (bug && store->was_outside[k]) return V::outside;
-        const V v = plane_coherency_test(f, b, store->caches[k]);
-        store->was_outside[k] = v == V::outside;
-        return v;
-      });
-  m.on_reset([store] { *store = Store{}; });
-  return m;
-}
-
+// A coherency cache that trusts a stale answer (an object culled last frame is culled again
+// without a test) and its correct version: tests/mutants.
 TEST(CameraPaths, AStaleCacheIsRefutedWithAShrunkPathThatReplays) {
   const auto dir = temp_dir("stale");
   VerifyOptions o = path_run(4 * gen::kPathFrames * gen::kPathObjects);
   o.corpus = dir;
-  const Method bug = stale_cache(true), good = stale_cache(false);
+  const Method bug = mutants::find("stale-plane-cache"), good = mutants::find("control-plane-cache");
   const VerifyResult r = run_verify(o, {bug, good});
   const MethodStats& b = r.distributions[0].methods[0];
   const MethodStats& g = r.distributions[0].methods[1];
@@ -198,10 +169,10 @@ TEST(CameraPaths, AStaleCacheIsRefutedWithAShrunkPathThatReplays) {
 
   int with_path = 0;
   for (const CorpusEntry& e : load_corpus(dir)) {
-    if (e.method == "plane-cache") {
+    if (e.method == "control-plane-cache") {
       EXPECT_NE(e.error, ErrorClass::false_reject) << e.file;
     }
-    if (e.method != "stale-cache") continue;
+    if (e.method != "stale-plane-cache") continue;
     ASSERT_TRUE(e.path) << e.file << ": a stateful error is recorded with its camera path";
     if (e.error != ErrorClass::false_reject) continue;  // its false intersects are the n/p test's
     ++with_path;
@@ -223,6 +194,36 @@ TEST(CameraPaths, AStaleCacheIsRefutedWithAShrunkPathThatReplays) {
     EXPECT_EQ(a.claim_violations, e.c.extra.at("violates_claim").get<bool>() ? 1u : 0u) << e.file;
   }
   EXPECT_GT(with_path, 0);
+  std::filesystem::remove_all(dir);
+}
+
+// A per-frame state leaking from one volume to the next (plane masks kept from the previous
+// volume, a sibling, not the parent): tests/mutants. Alone, each volume is right; in a frame of
+// many, boxes beyond a skipped plane are kept and called inside.
+TEST(CameraPaths, AStateLeakingBetweenVolumesOfAFrameIsRefutedAndRecordedWithItsFrame) {
+  const auto dir = temp_dir("leak");
+  VerifyOptions o = path_run(2 * gen::kPathFrames * gen::kPathObjects);
+  o.corpus = dir;
+  const Method m = mutants::find("mask-leak");
+  const VerifyResult r = run_verify(o, {m});
+  EXPECT_TRUE(r.distributions[0].methods[0].refuted());
+  int recorded = 0;
+  for (const CorpusEntry& e : load_corpus(dir)) {
+    if (!e.c.extra.at("violates_claim").get<bool>()) continue;
+    ASSERT_TRUE(e.path) << e.file << ": the error needs the frame's earlier objects";
+    EXPECT_EQ(e.path->frames.size(), 1u) << e.file;
+    EXPECT_TRUE(replay(e, {m}).reproduces) << e.file;
+    const Answer alone = checked_classify(m, e.c.frustum, e.c.volume);
+    ASSERT_TRUE(alone);
+    EXPECT_NE(error_class(*alone, oracle::truth(e.c.frustum, e.c.volume)), e.error)
+        << e.file << ": alone the volume is classified without that error";
+    ++recorded;
+  }
+  EXPECT_GT(recorded, 0);
+  // Off camera paths each case is a frame of one volume: nothing leaks, nothing is found.
+  VerifyOptions elsewhere = path_run(3000);
+  elsewhere.distributions = {Distribution::near_boundary, Distribution::corner};
+  EXPECT_FALSE(run_verify(elsewhere, {m}).claim_broken());
   std::filesystem::remove_all(dir);
 }
 

@@ -115,13 +115,26 @@ TEST(FloatExact, TheTouchFamilysBoxesPointsAndObbsAreFloatExact) {
   EXPECT_GT(spheres, 10);
 }
 
+TEST(FloatExact, TheContactFamilyIsFloatExactThroughout) {
+  int kinds[4] = {0, 0, 0, 0}, matrices = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const gen::GenCase g = gen::draw(gen::Distribution::contact, 3, std::uint64_t(i)).value();
+    EXPECT_TRUE(float_exact(g.frustum, g.volume))
+        << "contact case " << i << " rounds: " << format_frustum(g.frustum) << " " << format_volume(g.volume);
+    ++kinds[g.volume.index()];
+    matrices += g.frustum.matrix.has_value();
+  }
+  for (int k = 0; k < 4; ++k) EXPECT_GT(kinds[k], 50) << "volume kind " << k;
+  EXPECT_GT(matrices, 200);
+}
+
 // Soundness: where the rule says nothing rounds, a correct float test is exactly as right as in
 // exact arithmetic. The n/p-vertex, point and sphere tests are conservative in exact arithmetic
 // (A&M §3.1): on a float-exact case none may make a false reject or a false inside.
 TEST(FloatExact, CorrectFloatTestsMakeNoForbiddenErrorOnFloatExactCases) {
   int exact_cases = 0;
   const bool ok = rc::check("no forbidden error where nothing rounds", [&] {
-    const gen::Distribution d = *rc::gen::element(gen::Distribution::touch, gen::Distribution::ulp);
+    const gen::Distribution d = *rc::gen::element(gen::Distribution::touch, gen::Distribution::ulp, gen::Distribution::contact);
     const gen::GenCase g = *gen::case_of(d);
     if (!float_exact(g.frustum, g.volume)) return;
     ++exact_cases;
