@@ -3,6 +3,7 @@
 //   cullproof methods [--json]
 //   cullproof classify FILE... [--method NAME ...] [--no-oracle]
 //   cullproof verify [--cases N] [--seed S] [--distribution D ...] [--method M ...] [--threads T]
+//                    [--external NAME [--external-timeout MS] -- PROGRAM ARGS...]
 //                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
 //   cullproof corpus list|show ID|replay [--dir DIR]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
@@ -14,6 +15,7 @@
 #ifdef CULLPROOF_HAVE_ORACLE
 #include "cullproof/campaign.hpp"
 #include "cullproof/corpus.hpp"
+#include "cullproof/external.hpp"
 #include "cullproof/oracle.hpp"
 #endif
 #ifdef CULLPROOF_HAVE_SIM
@@ -117,7 +119,34 @@ std::string fmt_distance(double d) {
   return buf;
 }
 
-int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const std::string& json_file) {
+// The methods of a verify run: the external program's method named `external` (beside the
+// built-in ones named by --method, if any), or the built-in ones.
+std::vector<Method> verify_methods(const VerifyOptions& opt, const std::string& external, const std::vector<std::string>& command,
+                                   int timeout_ms) {
+  if (external.empty()) {
+    if (!command.empty()) throw std::invalid_argument("a program after '--' needs --external NAME");
+    return builtin_methods(opt.methods);
+  }
+  if (command.empty()) throw std::invalid_argument("--external " + external + " needs the program after '--'");
+  ExternalOptions eo;
+  eo.command = command;
+  eo.timeout = std::chrono::milliseconds(timeout_ms);
+  std::vector<Method> offered = external_methods(eo);
+  std::vector<Method> out;
+  std::string names;
+  for (Method& m : offered) {
+    names += (names.empty() ? "" : ", ") + m.name;
+    if (m.name == external) out.push_back(std::move(m));
+  }
+  if (out.empty())
+    throw std::invalid_argument("the program offers no method named '" + external + "' (it offers: " + names + ")");
+  if (!opt.methods.empty())
+    for (Method& b : builtin_methods(opt.methods)) out.push_back(std::move(b));
+  return out;
+}
+
+int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const std::string& json_file,
+               const std::vector<Method>& methods) {
   if (!dists.empty()) {
     opt.distributions.clear();
     for (const std::string& d : dists)
@@ -127,7 +156,7 @@ int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const s
   }
   VerifyResult r;
   try {
-    r = run_verify(opt);
+    r = run_verify(opt, methods);
   } catch (const MethodFault& e) {
     std::cerr << "cullproof verify: FAULT: " << e.what() << "\n";
     return 3;
@@ -298,6 +327,16 @@ int main(int argc, char** argv) {
   verify_cmd->add_flag("--no-corpus", no_corpus, "Do not write the corpus");
   verify_cmd->add_option("--json", json_file, "Write the whole result as JSON to FILE");
   auto* index_opt = verify_cmd->add_option("--index", index, "Run only case INDEX of each distribution (reproduce)");
+  std::string external;
+  std::vector<std::string> external_command;
+  int external_timeout = 10000;
+  verify_cmd->add_option("--external", external,
+                         "Verify method NAME of the program given after '--' (the process protocol, docs/protocol.md); "
+                         "--method adds built-in ones beside it");
+  verify_cmd->add_option("--external-timeout", external_timeout, "Milliseconds to wait for each answer of the program")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  verify_cmd->add_option("command", external_command, "The program and its arguments, after '--'");
   verify_cmd->add_flag("--no-progress", no_progress, "No progress bar");
 
   std::string corpus_action, corpus_id, corpus_root = "corpus";
@@ -326,7 +365,7 @@ int main(int argc, char** argv) {
       vopt.corpus = no_corpus ? std::nullopt : std::optional<std::filesystem::path>(corpus_dir);
       vopt.progress = !no_progress;
       if (*index_opt) vopt.only_index = index;
-      return cmd_verify(vopt, dists, json_file);
+      return cmd_verify(vopt, dists, json_file, verify_methods(vopt, external, external_command, external_timeout));
     }
     if (*corpus_cmd) {
       if (corpus_action == "show" && corpus_id.empty()) {

@@ -527,6 +527,9 @@ PathCase shrink_path(PathCase p, const Method& m, ErrorClass cls, Visibility tru
 std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const Method& m) {
   // A user's method is not in the command-line program: its test reruns the case from the
   // environment (cullproof/gtest.hpp).
+  if (!m.program.empty())
+    return fmt::format("cullproof verify --seed {} --distribution {} --index {} --external {} -- {}", seed, gen::to_string(d),
+                       index, m.name, m.program);
   if (m.origin == Origin::user)
     return fmt::format("CULLPROOF_SEED={} CULLPROOF_DISTRIBUTION={} CULLPROOF_INDEX={} (environment of the test that verifies {})",
                        seed, gen::to_string(d), index, m.name);

@@ -102,6 +102,9 @@ struct MethodInfo {
   bool stateful = false;
   /// A user's method unless it says otherwise: its refuted claim fails the run.
   Origin origin = Origin::user;
+  /// For a method behind a program (cullproof/external.hpp): the program's command line, which
+  /// the reproduce lines of its cases name.
+  std::string program;
 
   bool takes(const Volume& v) const noexcept { return (volumes & volume_kind(v)) != 0; }
   bool takes(unsigned kind_bit) const noexcept { return (volumes & kind_bit) != 0; }

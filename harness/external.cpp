@@ -1,0 +1,349 @@
+// The process protocol, cullproof's side (see cullproof/external.hpp and docs/protocol.md).
+//
+// The child runs with pipes on its stdin and stdout (stderr is inherited, for its own messages).
+// POSIX fork/exec and poll() are used directly: the protocol needs a read with a deadline on a
+// line-oriented pipe and nothing more. SIGPIPE is ignored for the write, so a program that has
+// exited is reported as such instead of killing cullproof.
+#include "cullproof/external.hpp"
+
+#include "cullproof/case_io.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace cullproof {
+
+namespace {
+
+using nlohmann::json;
+
+// A float as the protocol writes it: the shortest decimal that reads back to it, unless reading
+// that decimal as a double and rounding to float would not (double rounding); then the shortest
+// decimal of the float's exact double value, which both readings recover exactly.
+std::string number(float x) {
+  const std::string d = format_float(x);
+  if (float(std::strtod(d.c_str(), nullptr)) == x) return d;
+  return fmt::format("{}", double(x));
+}
+
+std::string vec3(const glm::vec3& v) { return "[" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + "]"; }
+
+std::string volume_text(const Volume& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, Point>) return "{\"point\": " + vec3(x) + "}";
+        else if constexpr (std::is_same_v<T, Sphere>)
+          return "{\"sphere\": {\"center\": " + vec3(x.center) + ", \"radius\": " + number(x.radius) + "}}";
+        else if constexpr (std::is_same_v<T, Aabb>)
+          return "{\"aabb\": {\"min\": " + vec3(x.min) + ", \"max\": " + vec3(x.max) + "}}";
+        else
+          return "{\"obb\": {\"center\": " + vec3(x.center) + ", \"axes\": [" + vec3(x.axes[0]) + ", " + vec3(x.axes[1]) +
+                 ", " + vec3(x.axes[2]) + "], \"half\": " + vec3(x.half) + "}}";
+      },
+      v);
+}
+
+std::string frustum_text(const CaseFrustum& f) {
+  std::string s = "{\"planes\": [";
+  for (int k = 0; k < kPlaneCount; ++k)
+    s += (k ? ", [" : "[") + number(f.planes[k].n.x) + ", " + number(f.planes[k].n.y) + ", " + number(f.planes[k].n.z) +
+         ", " + number(f.planes[k].d) + "]";
+  s += "]";
+  if (f.matrix) {
+    s += ", \"matrix\": [";
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) s += (c || r ? ", " : "") + number((*f.matrix)[c][r]);
+    s += fmt::format("], \"depth\": \"{}\", \"reversed_z\": {}",
+                     f.depth.range == DepthRange::negative_one_to_one ? "negative_one_to_one" : "zero_to_one",
+                     f.depth.reversed_z ? "true" : "false");
+  }
+  return s + "}";
+}
+
+std::string excerpt(const std::string& line) {
+  return line.size() <= 200 ? line : line.substr(0, 200) + "...";
+}
+
+// The running program: one request at a time (the methods' calls are serialised here).
+class Process {
+ public:
+  explicit Process(ExternalOptions o) : opt_(std::move(o)) {
+    if (opt_.command.empty()) throw std::runtime_error("external: no program given");
+    name_ = opt_.command[0];
+    for (std::size_t i = 1; i < opt_.command.size(); ++i) name_ += " " + opt_.command[i];
+    int in[2], out[2];
+    if (::pipe(in) != 0 || ::pipe(out) != 0) throw std::runtime_error("external: cannot make pipes: " + std::string(std::strerror(errno)));
+    std::signal(SIGPIPE, SIG_IGN);
+    pid_ = ::fork();
+    if (pid_ < 0) throw std::runtime_error("external: cannot fork: " + std::string(std::strerror(errno)));
+    if (pid_ == 0) {
+      ::dup2(in[0], 0);
+      ::dup2(out[1], 1);
+      ::close(in[0]), ::close(in[1]), ::close(out[0]), ::close(out[1]);
+      std::vector<char*> argv;
+      for (std::string& a : opt_.command) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execvp(argv[0], argv.data());
+      std::fprintf(stderr, "external: cannot run '%s': %s\n", argv[0], std::strerror(errno));
+      ::_exit(127);
+    }
+    ::close(in[0]);
+    ::close(out[1]);
+    to_ = in[1];
+    from_ = out[0];
+    ::fcntl(to_, F_SETFL, ::fcntl(to_, F_GETFL) | O_NONBLOCK);  // writes wait with the timeout too
+  }
+  ~Process() {
+    if (to_ >= 0) {
+      (void)write_all("{\"bye\": true}\n");
+      ::close(to_);
+    }
+    if (from_ >= 0) ::close(from_);
+    if (pid_ > 0) {
+      int status = 0;
+      for (int i = 0; i < 50 && ::waitpid(pid_, &status, WNOHANG) == 0; ++i) ::usleep(10000);
+      if (::waitpid(pid_, &status, WNOHANG) == 0) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status, 0);
+      }
+    }
+  }
+  const std::string& name() const { return name_; }
+
+  // Reads one line within the timeout; throws naming `what` was awaited.
+  std::string read_line(const std::string& what) {
+    for (;;) {
+      const auto nl = buffer_.find('\n');
+      if (nl != std::string::npos) {
+        std::string line = buffer_.substr(0, nl);
+        buffer_.erase(0, nl + 1);
+        return line;
+      }
+      pollfd p{from_, POLLIN, 0};
+      const int r = ::poll(&p, 1, int(opt_.timeout.count()));
+      if (r == 0)
+        fail(fmt::format("no answer within {} ms to {} (hung? the timeout is --external-timeout)", opt_.timeout.count(), what));
+      if (r < 0) fail("cannot read its output: " + std::string(std::strerror(errno)));
+      char chunk[65536];
+      const ssize_t n = ::read(from_, chunk, sizeof chunk);
+      if (n <= 0) fail(fmt::format("exited{} before answering {}", exit_status(), what));
+      buffer_.append(chunk, std::size_t(n));
+    }
+  }
+
+  void send(const std::string& line, const std::string& what) {
+    if (!write_all(line + "\n")) fail(fmt::format("exited{} or stopped reading before it read {}", exit_status(), what));
+  }
+
+  // After a fault the program is not asked again: every later call fails at once (the run stops
+  // at the fault with the smallest case index, which may be an earlier case on another thread).
+  [[noreturn]] void fail(const std::string& why) {
+    if (dead_.empty()) dead_ = why;
+    throw std::runtime_error("external program '" + name_ + "': " + why);
+  }
+  void check_alive() {
+    if (!dead_.empty()) throw std::runtime_error("external program '" + name_ + "': not asked again after: " + dead_);
+  }
+
+  std::mutex mutex;
+  std::uint64_t next_frame = 1;
+
+ private:
+  std::string dead_;
+  // False when the program is gone or has not read its input within the timeout.
+  bool write_all(const std::string& s) {
+    std::size_t done = 0;
+    while (done < s.size()) {
+      const ssize_t n = ::write(to_, s.data() + done, s.size() - done);
+      if (n > 0) {
+        done += std::size_t(n);
+        continue;
+      }
+      if (n < 0 && errno == EAGAIN) {
+        pollfd p{to_, POLLOUT, 0};
+        if (::poll(&p, 1, int(opt_.timeout.count())) > 0 && !(p.revents & (POLLERR | POLLHUP))) continue;
+      }
+      return false;
+    }
+    return true;
+  }
+  std::string exit_status() {
+    int status = 0;
+    ::usleep(20000);
+    if (::waitpid(pid_, &status, WNOHANG) != pid_) return "";
+    pid_ = -1;
+    if (WIFEXITED(status)) return fmt::format(" (status {})", WEXITSTATUS(status));
+    if (WIFSIGNALED(status)) return fmt::format(" (signal {})", WTERMSIG(status));
+    return "";
+  }
+
+  ExternalOptions opt_;
+  std::string name_;
+  pid_t pid_ = -1;
+  int to_ = -1, from_ = -1;
+  std::string buffer_;
+};
+
+struct External {
+  std::shared_ptr<Process> process;
+  std::string method;
+  bool wants_reset = false;  // set by reset(): the next frame starts a camera path
+};
+
+// One frame message and its answer: verdicts for `volumes`, in order.
+void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::size_t n, Answer* out) {
+  Process& p = *e.process;
+  std::lock_guard<std::mutex> g(p.mutex);
+  p.check_alive();
+  const std::uint64_t id = p.next_frame++;
+  std::string msg = fmt::format("{{\"frame\": {}, \"method\": {}, ", id, json(e.method).dump());
+  if (e.wants_reset) msg += "\"reset\": true, ";
+  e.wants_reset = false;
+  msg += "\"frustum\": " + frustum_text(f) + ", \"volumes\": [";
+  for (std::size_t i = 0; i < n; ++i) msg += (i ? ", " : "") + volumes[i];
+  msg += "]}";
+  const std::string what = fmt::format("frame {} ({} volume(s) for method '{}')", id, n, e.method);
+  p.send(msg, what);
+  const std::string line = p.read_line(what);
+  json a;
+  try {
+    a = json::parse(line);
+  } catch (const std::exception&) {
+    p.fail(fmt::format("answered {} with a line that is not JSON: {}", what, excerpt(line)));
+  }
+  if (!a.is_object() || !a.contains("frame") || !a["frame"].is_number_unsigned())
+    p.fail(fmt::format("answered {} without a \"frame\" number: {}", what, excerpt(line)));
+  if (a["frame"].get<std::uint64_t>() != id)
+    p.fail(fmt::format("answered frame {} when {} was asked (answers must come in order): {}", a["frame"].get<std::uint64_t>(),
+                       what, excerpt(line)));
+  if (a.contains("error") && a["error"].is_string())
+    p.fail(fmt::format("reported an error for {}: {}", what, a["error"].get<std::string>()));
+  const auto v = a.find("verdicts");
+  if (v == a.end() || !v->is_array()) p.fail(fmt::format("answered {} without a \"verdicts\" array: {}", what, excerpt(line)));
+  if (v->size() != n)
+    p.fail(fmt::format("answered {} with {} verdict(s) for {} volume(s): {}", what, v->size(), n, excerpt(line)));
+  for (std::size_t i = 0; i < n; ++i) {
+    const json& x = (*v)[i];
+    if (x.is_null()) {
+      out[i] = std::nullopt;
+    } else if (x.is_string() && (x == "outside" || x == "intersecting" || x == "inside")) {
+      out[i] = visibility_from_string(x.get<std::string>());
+    } else {
+      p.fail(fmt::format("answered {} with verdict {} for volume {}, which is not \"outside\", \"intersecting\", "
+                         "\"inside\" or null",
+                         what, x.dump(), i));
+    }
+  }
+}
+
+class Prepared : public PreparedFrustum {
+ public:
+  Prepared(std::shared_ptr<External> e, CaseFrustum f) : e_(std::move(e)), f_(std::move(f)) {}
+  Answer classify(const Volume& v) override {
+    const std::string t = volume_text(v);
+    Answer a;
+    ask(*e_, f_, &t, 1, &a);
+    return a;
+  }
+  void classify_batch(const Point* v, std::size_t n, Answer* a) override { many(v, n, a); }
+  void classify_batch(const Sphere* v, std::size_t n, Answer* a) override { many(v, n, a); }
+  void classify_batch(const Aabb* v, std::size_t n, Answer* a) override { many(v, n, a); }
+  void classify_batch(const Obb* v, std::size_t n, Answer* a) override { many(v, n, a); }
+
+ private:
+  template <class K>
+  void many(const K* v, std::size_t n, Answer* a) {
+    if (n == 0) return;
+    std::vector<std::string> t;
+    t.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) t.push_back(volume_text(Volume{v[i]}));
+    ask(*e_, f_, t.data(), n, a);
+  }
+  std::shared_ptr<External> e_;
+  CaseFrustum f_;
+};
+
+unsigned kinds_of(const json& j, const std::string& where) {
+  unsigned k = 0;
+  if (!j.is_array() || j.empty()) throw std::runtime_error(where + ": \"volumes\" must be a non-empty array of kinds");
+  for (const json& x : j) {
+    const std::string s = x.is_string() ? x.get<std::string>() : x.dump();
+    if (s == "point") k |= kPointKind;
+    else if (s == "sphere") k |= kSphereKind;
+    else if (s == "aabb") k |= kAabbKind;
+    else if (s == "obb") k |= kObbKind;
+    else throw std::runtime_error(where + ": unknown volume kind " + x.dump() + " (point, sphere, aabb, obb)");
+  }
+  return k;
+}
+
+}  // namespace
+
+std::vector<Method> external_methods(const ExternalOptions& options) {
+  auto process = std::make_shared<Process>(options);
+  const std::string line = process->read_line("the handshake");
+  json h;
+  try {
+    h = json::parse(line);
+  } catch (const std::exception&) {
+    process->fail("its handshake is not JSON: " + excerpt(line));
+  }
+  const std::string where = "external program '" + process->name() + "': handshake";
+  if (!h.is_object() || !h.contains("protocol") || !h["protocol"].is_number_integer())
+    throw std::runtime_error(where + ": no \"protocol\" version number");
+  if (h["protocol"].get<int>() != kProtocolVersion)
+    throw std::runtime_error(fmt::format("{}: protocol version {}, this cullproof speaks version {}", where,
+                                         h["protocol"].get<int>(), kProtocolVersion));
+  if (!h.contains("methods") || !h["methods"].is_array() || h["methods"].empty())
+    throw std::runtime_error(where + ": no \"methods\" array");
+  std::vector<Method> out;
+  for (std::size_t i = 0; i < h["methods"].size(); ++i) {
+    const json& m = h["methods"][i];
+    const std::string at = fmt::format("{}, methods[{}]", where, i);
+    if (!m.is_object() || !m.contains("name") || !m["name"].is_string() || m["name"].get<std::string>().empty())
+      throw std::runtime_error(at + ": no \"name\"");
+    MethodInfo info;
+    info.name = m["name"].get<std::string>();
+    info.origin = Origin::user;
+    info.description = m.value("description", std::string("external program: ") + process->name());
+    info.source = m.value("source", process->name());
+    try {
+      info.claim = claim_from_string(m.value("claim", std::string("none")));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(at + ": " + e.what());
+    }
+    if (m.contains("tolerance") && !m["tolerance"].is_number()) throw std::runtime_error(at + ": \"tolerance\" is not a number");
+    info.tolerance = m.value("tolerance", 0.0);
+    info.volumes = kinds_of(m.contains("volumes") ? m["volumes"] : json(), at);
+    info.three_way = m.value("three_way", true);
+    info.stateful = m.value("stateful", false);
+    info.touching = m.value("touching", std::string());
+    info.program = process->name();
+    auto e = std::make_shared<External>(External{process, info.name, false});
+    Method method(
+        info, [e](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> { return std::make_unique<Prepared>(e, f); },
+        /*batch=*/true);
+    method.on_reset([e] { e->wants_reset = true; });
+    out.push_back(std::move(method));
+  }
+  return out;
+}
+
+}  // namespace cullproof

@@ -1,0 +1,94 @@
+// The process protocol: the reference adapter (tests/protocol/reference_adapter.cpp, written from
+// docs/protocol.md) is a method like any other, with the same verdicts as the built-in n/p-vertex
+// test; adapters that crash, hang, miscount, print garbage, answer an unknown verdict or out of
+// order are each stopped with the documented error and the case saved.
+#include "cullproof/campaign.hpp"
+#include "cullproof/external.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+namespace cullproof {
+namespace {
+
+ExternalOptions adapter(const std::string& mode) {
+  ExternalOptions o;
+  o.command = {CULLPROOF_REFERENCE_ADAPTER, mode};
+  o.timeout = std::chrono::milliseconds(1500);
+  return o;
+}
+
+VerifyOptions small_run() {
+  VerifyOptions o;
+  o.cases = 1500;
+  o.seed = 3;
+  o.distributions = {gen::Distribution::near_boundary, gen::Distribution::corner, gen::Distribution::contact};
+  o.threads = 2;
+  o.progress = false;
+  o.timing = false;
+  return o;
+}
+
+TEST(Protocol, TheReferenceAdapterIsAMethodLikeAnyOther) {
+  const std::vector<Method> ext = external_methods(adapter("ok"));
+  ASSERT_EQ(ext.size(), 1u);
+  EXPECT_EQ(ext[0].name, "reference-pn-vertex");
+  EXPECT_EQ(ext[0].origin, Origin::user);
+  EXPECT_EQ(ext[0].volumes, unsigned(kAabbKind));
+  const VerifyResult r = run_verify(small_run(), {ext[0], *find_builtin("pn-vertex")});
+  for (const auto& d : r.distributions) {
+    const MethodStats& a = d.methods[0];
+    const MethodStats& b = d.methods[1];
+    EXPECT_GT(a.cases, 0u);
+    EXPECT_EQ(a.cases, b.cases);
+    EXPECT_EQ(a.false_intersect, b.false_intersect) << gen::to_string(d.distribution);
+    EXPECT_EQ(a.under_inside, b.under_inside) << gen::to_string(d.distribution);
+    EXPECT_FALSE(a.refuted()) << gen::to_string(d.distribution);
+  }
+}
+
+void expect_fault(const std::string& mode, const std::string& words) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-protocol-" + mode + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  VerifyOptions o = small_run();
+  o.faults = dir;
+  try {
+    const std::vector<Method> ext = external_methods(adapter(mode));
+    run_verify(o, ext);
+    FAIL() << mode << ": not stopped";
+  } catch (const MethodFault& f) {
+    const std::string what = f.what();
+    EXPECT_NE(what.find("external program '"), std::string::npos) << what;
+    EXPECT_NE(what.find(words), std::string::npos) << mode << ": " << what;
+    EXPECT_TRUE(f.saved() && std::filesystem::exists(*f.saved())) << mode << ": the case was not saved";
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Protocol, ACrashIsStopped) { expect_fault("crash", "exited (signal 6) before answering frame 3"); }
+TEST(Protocol, AHangIsStoppedAtTheTimeout) { expect_fault("hang", "no answer within 1500 ms to frame 3"); }
+TEST(Protocol, TheWrongCountIsStopped) { expect_fault("wrong-count", "with 2 verdict(s) for 1 volume(s)"); }
+TEST(Protocol, GarbageIsStopped) { expect_fault("garbage", "a line that is not JSON: segfault? no, just text"); }
+TEST(Protocol, AnUnknownVerdictIsStopped) { expect_fault("bad-verdict", "verdict \"visible\" for volume 0"); }
+TEST(Protocol, AnswersOutOfOrderAreStopped) { expect_fault("out-of-order", "answered frame 4 when frame 3"); }
+
+TEST(Protocol, AnotherVersionIsRefusedAtTheHandshake) {
+  try {
+    external_methods(adapter("bad-version"));
+    FAIL() << "accepted protocol 99";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("protocol version 99, this cullproof speaks version 1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Protocol, AProgramThatCannotRunIsReported) {
+  ExternalOptions o;
+  o.command = {"/nonexistent/culler"};
+  o.timeout = std::chrono::milliseconds(1500);
+  EXPECT_THROW(external_methods(o), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace cullproof
