@@ -2,7 +2,8 @@
 // page alone with a JSON library and nothing of cullproof: the n/p-vertex test (Assarsson &
 // Moller 2000, §3.1) on the planes of each frame, for AABBs. With a mode argument it plants one
 // protocol fault, for the protocol tests: crash, hang, wrong-count, garbage, bad-verdict,
-// out-of-order, bad-version.
+// out-of-order, bad-version; or the planted culling bug reject-touching (`<= 0` rejects), which
+// the verifier must find through the protocol as it does in process.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
           pv += n[i] * (n[i] >= 0 ? hi[i] : lo[i]);
           nv += n[i] * (n[i] >= 0 ? lo[i] : hi[i]);
         }
-        if (pv < 0) {
+        if (mode == "reject-touching" ? pv <= 0 : pv < 0) {
           outside = true;
           break;
         }

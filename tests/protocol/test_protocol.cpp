@@ -49,6 +49,25 @@ TEST(Protocol, TheReferenceAdapterIsAMethodLikeAnyOther) {
   }
 }
 
+TEST(Protocol, APlantedBugIsFoundThroughTheProtocolAsInProcess) {
+  // The touching `<=` of tests/mutants, behind the protocol: refuted on float-exact contact cases,
+  // its shrunk case written under its name.
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-protocol-bug-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::contact};
+  o.corpus = dir;
+  const VerifyResult r = run_verify(o, external_methods(adapter("reject-touching")));
+  const MethodStats& s = r.distributions[0].methods[0];
+  EXPECT_TRUE(s.refuted());
+  EXPECT_GT(s.false_reject, 0u);
+  EXPECT_EQ(s.float_exact_violations, s.claim_violations);
+  EXPECT_TRUE(r.claim_broken());
+  EXPECT_FALSE(s.corpus_written.empty());
+  EXPECT_TRUE(std::filesystem::exists(dir / "reference-pn-vertex" / "contact"));
+  std::filesystem::remove_all(dir);
+}
+
 void expect_fault(const std::string& mode, const std::string& words) {
   const auto dir = std::filesystem::temp_directory_path() / ("cullproof-protocol-" + mode + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
