@@ -407,12 +407,16 @@ ExactFrame exact_frame() {
   return e;
 }
 
-CaseFrustum exact_frustum(const ExactFrame& e, bool as_matrix) {
-  // clip = P * V with V the inverse of (world = rot * view + shift): V = [rot^T | -rot^T shift].
-  const glm::mat4 p = glm::frustumRH_NO(-e.n, e.n, -e.n, e.n, e.n, e.f);
+// The view matrix of a frame: the inverse of (world = rot * view + shift), [rot^T | -rot^T shift].
+glm::mat4 view_of(const ExactFrame& e) {
   glm::mat4 v(glm::transpose(e.rot));
   v[3] = glm::vec4(-(glm::transpose(e.rot) * e.shift), 1.0f);
-  CaseFrustum f = frustum_spec(p * v, {});
+  return v;
+}
+
+CaseFrustum exact_frustum(const ExactFrame& e, bool as_matrix) {
+  const glm::mat4 p = glm::frustumRH_NO(-e.n, e.n, -e.n, e.n, e.n, e.f);
+  CaseFrustum f = frustum_spec(p * view_of(e), {});
   if (!as_matrix) f.matrix.reset();
   return f;
 }
@@ -516,12 +520,6 @@ GenCase touch_case(bool nudge, const std::function<CaseFrustum(const ExactFrame&
 // Volumes meet the frustum's boundary: flat boxes lying in a face (inside), boxes touching a face,
 // an edge or a vertex from outside (intersecting) or from inside (inside), points on faces, edges
 // and corners, spheres tangent to a face from either side, OBBs with permuted axes.
-
-glm::mat4 view_of(const ExactFrame& e) {
-  glm::mat4 v(glm::transpose(e.rot));
-  v[3] = glm::vec4(-(glm::transpose(e.rot) * e.shift), 1.0f);
-  return v;
-}
 
 DepthConvention any_depth() {
   DepthConvention d;
