@@ -1,9 +1,9 @@
 // cullproof: run culling methods and the exact oracle side by side.
 //
 //   cullproof methods [--json]
-//   cullproof classify FILE... [--method NAME ...] [--no-oracle]
+//   cullproof classify FILE... [--method NAME ...] [--no-oracle] [--external NAME ... -- PROGRAM ARGS...]
 //   cullproof verify [--cases N] [--seed S] [--distribution D ...] [--method M ...] [--threads T]
-//                    [--external NAME [--external-timeout MS] -- PROGRAM ARGS...]
+//                    [--external NAME|all ... [--external-timeout MS] -- PROGRAM ARGS...]
 //                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
 //   cullproof corpus list|show ID|replay [--dir DIR]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
@@ -77,14 +77,7 @@ int cmd_methods(bool as_json) {
   return 0;
 }
 
-int cmd_classify(const std::vector<std::string>& files, const std::vector<std::string>& names, bool no_oracle) {
-  std::vector<Method> selected;
-  try {
-    selected = builtin_methods(names);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "cullproof classify: " << e.what() << "\n";
-    return 2;
-  }
+int cmd_classify(const std::vector<std::string>& files, const std::vector<Method>& selected, bool no_oracle) {
   for (const std::string& file : files) {
     const std::vector<Case> cases = read_cases(file);  // throws CaseError naming file/line/field
     for (const Case& c : cases) {
@@ -119,29 +112,33 @@ std::string fmt_distance(double d) {
   return buf;
 }
 
-// The methods of a verify run: the external program's method named `external` (beside the
-// built-in ones named by --method, if any), or the built-in ones.
-std::vector<Method> verify_methods(const VerifyOptions& opt, const std::string& external, const std::vector<std::string>& command,
-                                   int timeout_ms) {
+// The methods of a run: the external program's methods named by --external (`all`: every one it
+// offers), beside the built-in ones named by --method, if any; or the built-in ones.
+std::vector<Method> run_methods(const std::vector<std::string>& builtin, const std::vector<std::string>& external,
+                                const std::vector<std::string>& command, int timeout_ms) {
   if (external.empty()) {
     if (!command.empty()) throw std::invalid_argument("a program after '--' needs --external NAME");
-    return builtin_methods(opt.methods);
+    return builtin_methods(builtin);
   }
-  if (command.empty()) throw std::invalid_argument("--external " + external + " needs the program after '--'");
+  if (command.empty()) throw std::invalid_argument("--external " + external[0] + " needs the program after '--'");
   ExternalOptions eo;
   eo.command = command;
   eo.timeout = std::chrono::milliseconds(timeout_ms);
   std::vector<Method> offered = external_methods(eo);
-  std::vector<Method> out;
   std::string names;
-  for (Method& m : offered) {
-    names += (names.empty() ? "" : ", ") + m.name;
-    if (m.name == external) out.push_back(std::move(m));
+  for (const Method& m : offered) names += (names.empty() ? "" : ", ") + m.name;
+  std::vector<Method> out;
+  for (const std::string& wanted : external) {
+    bool found = false;
+    for (const Method& m : offered)
+      if (wanted == "all" || m.name == wanted) {
+        found = true;
+        if (std::none_of(out.begin(), out.end(), [&](const Method& o) { return o.name == m.name; })) out.push_back(m);
+      }
+    if (!found) throw std::invalid_argument("the program offers no method named '" + wanted + "' (it offers: " + names + ")");
   }
-  if (out.empty())
-    throw std::invalid_argument("the program offers no method named '" + external + "' (it offers: " + names + ")");
-  if (!opt.methods.empty())
-    for (Method& b : builtin_methods(opt.methods)) out.push_back(std::move(b));
+  if (!builtin.empty())
+    for (Method& b : builtin_methods(builtin)) out.push_back(std::move(b));
   return out;
 }
 
@@ -309,6 +306,17 @@ int main(int argc, char** argv) {
   classify_cmd->add_option("files", files, "Case files (.jsonl: one case per line; otherwise one case)")->required()->check(CLI::ExistingFile);
   classify_cmd->add_option("--method,-m", method_names, "Run only these methods (repeatable)");
   classify_cmd->add_flag("--no-oracle", no_oracle, "Skip the exact oracle (truth, witness, distance)");
+  std::vector<std::string> external, external_command;
+  int external_timeout = 10000;
+  // The process protocol (docs/protocol.md), for classify and verify alike.
+  auto external_options = [&](CLI::App* cmd) {
+    cmd->add_option("--external", external,
+                    "Run method NAME of the program given after '--' (the process protocol, docs/protocol.md; "
+                    "repeatable, 'all': every method it offers); --method adds built-in ones beside it");
+    cmd->add_option("--external-timeout", external_timeout, "Milliseconds to wait for each answer of the program")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+  };
 
 #ifdef CULLPROOF_HAVE_ORACLE
   VerifyOptions vopt;
@@ -327,16 +335,7 @@ int main(int argc, char** argv) {
   verify_cmd->add_flag("--no-corpus", no_corpus, "Do not write the corpus");
   verify_cmd->add_option("--json", json_file, "Write the whole result as JSON to FILE");
   auto* index_opt = verify_cmd->add_option("--index", index, "Run only case INDEX of each distribution (reproduce)");
-  std::string external;
-  std::vector<std::string> external_command;
-  int external_timeout = 10000;
-  verify_cmd->add_option("--external", external,
-                         "Verify method NAME of the program given after '--' (the process protocol, docs/protocol.md); "
-                         "--method adds built-in ones beside it");
-  verify_cmd->add_option("--external-timeout", external_timeout, "Milliseconds to wait for each answer of the program")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  verify_cmd->add_option("command", external_command, "The program and its arguments, after '--'");
+  external_options(verify_cmd);
   verify_cmd->add_flag("--no-progress", no_progress, "No progress bar");
 
   std::string corpus_action, corpus_id, corpus_root = "corpus";
@@ -353,10 +352,35 @@ int main(int argc, char** argv) {
   auto* simulate_cmd = cullproof::sim::add_simulate_subcommand(app, sim_opt);
 #endif
 
+#ifdef CULLPROOF_HAVE_ORACLE
+  external_options(classify_cmd);
+#endif
+
+  // Everything after the first '--' is the external program's command line, taken before the
+  // subcommands' own positional arguments (classify's files) can claim it.
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--") {
+      external_command.assign(argv + i + 1, argv + argc);
+      argc = i;
+      break;
+    }
   CLI11_PARSE(app, argc, argv);
   try {
     if (*methods_cmd) return cmd_methods(methods_json);
-    if (*classify_cmd) return cmd_classify(files, method_names, no_oracle);
+    if (*classify_cmd) {
+      std::vector<Method> selected;
+      try {
+#ifdef CULLPROOF_HAVE_ORACLE
+        selected = run_methods(method_names, external, external_command, external_timeout);
+#else
+        selected = builtin_methods(method_names);
+#endif
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "cullproof classify: " << e.what() << "\n";
+        return 2;
+      }
+      return cmd_classify(files, selected, no_oracle);
+    }
 #ifdef CULLPROOF_HAVE_SIM
     if (*simulate_cmd) return cullproof::sim::run_simulate_command(sim_opt);
 #endif
@@ -365,7 +389,7 @@ int main(int argc, char** argv) {
       vopt.corpus = no_corpus ? std::nullopt : std::optional<std::filesystem::path>(corpus_dir);
       vopt.progress = !no_progress;
       if (*index_opt) vopt.only_index = index;
-      return cmd_verify(vopt, dists, json_file, verify_methods(vopt, external, external_command, external_timeout));
+      return cmd_verify(vopt, dists, json_file, run_methods(vopt.methods, external, external_command, external_timeout));
     }
     if (*corpus_cmd) {
       if (corpus_action == "show" && corpus_id.empty()) {

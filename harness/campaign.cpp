@@ -623,6 +623,7 @@ KindedFrame split(gen::Frame f) {
 struct Timing {
   double ns_per_test = std::numeric_limits<double>::quiet_NaN();
   double ns_setup_per_frame = std::numeric_limits<double>::quiet_NaN();
+  double ns_per_test_own = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Classifies a frame's volumes through classify_batch, kind by kind; answers sized for it.
@@ -675,8 +676,7 @@ Timing time_stateful(const Method& m, const std::vector<KindedFrame>& frames) {
 // Times prepare once per frame and classify_batch over each frame's volumes, in passes over the
 // frames until each measure has run for at least 20 ms. Frames the method does not apply to
 // are left out.
-Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
-  if (m.stateful) return time_stateful(m, frames);
+Timing time_classify(const Method& m, const std::vector<KindedFrame>& frames) {
   constexpr double kMinSeconds = kMinTimingSeconds;
   Timing t;
   // The frames the method applies to, each with its state for the classify passes.
@@ -718,6 +718,16 @@ Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
   static std::atomic<unsigned> keep{0};
   keep += sink;  // keeps the calls from being optimised away
   t.ns_per_test = secs * 1e9 / double(tests);
+  return t;
+}
+
+// Both phases timed as the method runs (stateful ones frame after frame), and what the method
+// reports of its own time over the same frames.
+Timing time_method(const Method& m, const std::vector<KindedFrame>& frames) {
+  (void)m.take_own_timing();  // what the method reported before the timed frames
+  Timing t = m.stateful ? time_stateful(m, frames) : time_classify(m, frames);
+  const auto [own_ns, own_volumes] = m.take_own_timing();
+  if (own_volumes > 0) t.ns_per_test_own = own_ns / double(own_volumes);
   return t;
 }
 
@@ -1028,6 +1038,7 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
         s.ns_per_test = t.ns_per_test;
         s.ns_setup_per_frame = t.ns_setup_per_frame;
         s.timed_batch = m.has_batch();
+        s.ns_per_test_own = t.ns_per_test_own;
       }
       dr.methods.push_back(std::move(s));
     }
@@ -1073,13 +1084,15 @@ void print_tables(const VerifyResult& r, std::ostream& out) {
                                                                     : std::string())
                                                   : fmt::format("{} held", to_string(m.claim));
       if (!m.three_way) status += ", two-way";
-      out << fmt::format("| {} | {} | {} | {} | {} | {} | {} ({}-{}) | {} | {} | {} | {}{} |\n", m.method,
+      out << fmt::format("| {} | {} | {} | {} | {} | {} | {} ({}-{}) | {} | {} | {} | {}{}{} |\n", m.method,
                          to_string(m.origin), status, m.cases, m.false_reject, m.false_inside,
                          pct(m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0), pct(lo),
                          pct(hi),
                          m.three_way ? pct(m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0)
                                      : std::string("-"),
-                         median_max(m.fi_distance), ns(m.ns_setup_per_frame), ns(m.ns_per_test), m.timed_batch ? " (batch)" : "");
+                         median_max(m.fi_distance), ns(m.ns_setup_per_frame), ns(m.ns_per_test),
+                         m.timed_batch ? " (batch)" : "",
+                         std::isfinite(m.ns_per_test_own) ? fmt::format("; own {:.1f}", m.ns_per_test_own) : std::string());
     }
   }
   out << "\norigin: published = a text under test (a refuted claim is a finding); own = cullproof's, user = yours "
@@ -1089,7 +1102,8 @@ void print_tables(const VerifyResult& r, std::ostream& out) {
   if (r.options.timing)
     out << fmt::format("cost: set-up = prepare, once per frame; ns/test = classify per volume, {} frames of {} volumes "
                        "per distribution (camera-path: {} consecutive frames of one path, {} volumes each), through "
-                       "the method's array form where it has one (batch).\n",
+                       "the method's array form where it has one (batch); own = what a program reports of its own "
+                       "classification time over the same frames (docs/protocol.md).\n",
                        r.options.timing_frames, r.options.frame_size, r.options.timing_frames, gen::kPathObjects);
   out << fmt::format("wall time {:.1f} s\n", r.wall_seconds);
 }
@@ -1135,6 +1149,7 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"ns_per_test", std::isfinite(m.ns_per_test) ? nlohmann::json(m.ns_per_test) : nlohmann::json(nullptr)},
                                {"ns_setup_per_frame", std::isfinite(m.ns_setup_per_frame) ? nlohmann::json(m.ns_setup_per_frame) : nlohmann::json(nullptr)},
                                {"timed_batch", m.timed_batch},
+                               {"ns_per_test_own", std::isfinite(m.ns_per_test_own) ? nlohmann::json(m.ns_per_test_own) : nlohmann::json(nullptr)},
                                {"corpus_written", m.corpus_written}});
     }
     j["distributions"].push_back(jd);

@@ -204,7 +204,11 @@ class Process {
 struct External {
   std::shared_ptr<Process> process;
   std::string method;
-  bool wants_reset = false;  // set by reset(): the next frame starts a camera path
+  bool wants_reset = false;   // set by reset(): the next frame starts a camera path
+  bool wants_matrix = false;  // asked only about frusta given by a clip matrix
+  // What the program reported of its own time ("ns" in answers), under the process's mutex.
+  double own_ns = 0.0;
+  std::uint64_t own_volumes = 0;
 };
 
 // One frame message and its answer: verdicts for `volumes`, in order.
@@ -239,6 +243,12 @@ void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::siz
   if (v == a.end() || !v->is_array()) p.fail(fmt::format("answered {} without a \"verdicts\" array: {}", what, excerpt(line)));
   if (v->size() != n)
     p.fail(fmt::format("answered {} with {} verdict(s) for {} volume(s): {}", what, v->size(), n, excerpt(line)));
+  if (const auto t = a.find("ns"); t != a.end()) {
+    if (!t->is_number() || !(t->get<double>() >= 0.0))
+      p.fail(fmt::format("answered {} with \"ns\" {}, which is not a number of nanoseconds", what, t->dump()));
+    e.own_ns += t->get<double>();
+    e.own_volumes += n;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const json& x = (*v)[i];
     if (x.is_null()) {
@@ -336,11 +346,30 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
     info.stateful = m.value("stateful", false);
     info.touching = m.value("touching", std::string());
     info.program = process->name();
-    auto e = std::make_shared<External>(External{process, info.name, false});
+    const std::string origin = m.value("origin", std::string("user"));
+    if (origin == "published") info.origin = Origin::published;
+    else if (origin != "user")
+      throw std::runtime_error(at + ": \"origin\" " + json(origin).dump() + " is not \"user\" or \"published\"");
+    auto e = std::make_shared<External>(External{process, info.name});
+    const std::string frustum = m.value("frustum", std::string("planes"));
+    if (frustum == "matrix") e->wants_matrix = true;
+    else if (frustum != "planes")
+      throw std::runtime_error(at + ": \"frustum\" " + json(frustum).dump() + " is not \"planes\" or \"matrix\"");
     Method method(
-        info, [e](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> { return std::make_unique<Prepared>(e, f); },
+        info,
+        [e](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> {
+          if (e->wants_matrix && !f.matrix) return nullptr;  // does not apply: the case gives planes only
+          return std::make_unique<Prepared>(e, f);
+        },
         /*batch=*/true);
     method.on_reset([e] { e->wants_reset = true; });
+    method.on_own_timing([e] {
+      std::lock_guard<std::mutex> g(e->process->mutex);
+      const std::pair<double, std::uint64_t> r{e->own_ns, e->own_volumes};
+      e->own_ns = 0.0;
+      e->own_volumes = 0;
+      return r;
+    });
     out.push_back(std::move(method));
   }
   return out;

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -149,6 +150,9 @@ struct MethodStats {
   double ns_per_test = 0.0;         ///< classify, per volume, in frames (NaN: not timed)
   double ns_setup_per_frame = 0.0;  ///< prepare, per frame (NaN: not timed)
   bool timed_batch = false;         ///< classify was timed through the method's array form
+  /// What the method reported of itself over the same frames (a program's own clock around its
+  /// classification, without the protocol's messages); NaN when it reports nothing.
+  double ns_per_test_own = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> corpus_written;  ///< ids of corpus cases written by this run
   bool refuted() const noexcept { return claim_violations > 0; }
 };

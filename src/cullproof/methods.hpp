@@ -45,6 +45,7 @@
 #include "cullproof/geometry.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -150,6 +151,15 @@ class Method : public MethodInfo {
     reset_ = std::move(fn);
     return *this;
   }
+  /// A method that times itself (a program behind the process protocol reports the nanoseconds it
+  /// spent on each frame's volumes): `fn` returns the nanoseconds and the volumes reported since
+  /// its previous call. The campaign shows the method's own figure beside its measured cost.
+  Method& on_own_timing(std::function<std::pair<double, std::uint64_t>()> fn) {
+    own_timing_ = std::move(fn);
+    return *this;
+  }
+  /// Nanoseconds and volumes the method reported of itself since the previous call ({0, 0}: none).
+  std::pair<double, std::uint64_t> take_own_timing() const { return own_timing_ ? own_timing_() : std::pair<double, std::uint64_t>{}; }
   /// One volume against one frustum, set-up included (a convenience: the harness prepares once
   /// per frame); a stateful method is reset() first (a camera path of one frame). std::nullopt
   /// when the method does not apply.
@@ -158,6 +168,7 @@ class Method : public MethodInfo {
  private:
   Prepare prepare_;
   std::function<void()> reset_;
+  std::function<std::pair<double, std::uint64_t>()> own_timing_;
   bool batch_ = false;
 };
 

@@ -2,8 +2,9 @@
 // page alone with a JSON library and nothing of cullproof: the n/p-vertex test (Assarsson &
 // Moller 2000, §3.1) on the planes of each frame, for AABBs. With a mode argument it plants one
 // protocol fault, for the protocol tests: crash, hang, wrong-count, garbage, bad-verdict,
-// out-of-order, bad-version; or the planted culling bug reject-touching (`<= 0` rejects), which
-// the verifier must find through the protocol as it does in process.
+// out-of-order, bad-version, bad-ns; or the planted culling bug reject-touching (`<= 0` rejects),
+// which the verifier must find through the protocol as it does in process. `published` declares
+// the method a text under test, `matrix` asks for matrix frusta only. It reports its own time.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -16,16 +17,23 @@
 using nlohmann::json;
 
 int main(int argc, char** argv) {
-  const std::string mode = argc > 1 ? argv[1] : "ok";
+  // Modes combine: `reject-touching published`.
+  auto is = [&](const char* mode) {
+    for (int i = 1; i < argc; ++i)
+      if (std::string(argv[i]) == mode) return true;
+    return false;
+  };
   std::ios::sync_with_stdio(false);
-  json hello = {{"protocol", mode == "bad-version" ? 99 : 1},
+  json hello = {{"protocol", is("bad-version") ? 99 : 1},
                 {"methods",
                  {{{"name", "reference-pn-vertex"},
                    {"claim", "conservative"},
                    {"tolerance", 1e-6},
                    {"volumes", {"aabb"}},
                    {"three_way", true},
-                   {"stateful", false}}}}};
+                   {"stateful", false},
+                   {"origin", is("published") ? "published" : is("bad-origin") ? "own" : "user"},
+                   {"frustum", is("matrix") ? "matrix" : "planes"}}}}};
   std::cout << hello.dump() << "\n" << std::flush;
   std::string line;
   long frames = 0;
@@ -34,14 +42,19 @@ int main(int argc, char** argv) {
     if (m.value("bye", false)) break;
     ++frames;
     if (frames == 3) {  // the planted faults strike on the third frame
-      if (mode == "crash") std::abort();
-      if (mode == "hang") std::this_thread::sleep_for(std::chrono::hours(1));
-      if (mode == "garbage") {
+      if (is("crash")) std::abort();
+      if (is("hang")) std::this_thread::sleep_for(std::chrono::hours(1));
+      if (is("garbage")) {
         std::cout << "segfault? no, just text\n" << std::flush;
         continue;
       }
     }
+    if (is("matrix") && !m["frustum"].contains("matrix")) {
+      std::cout << json{{"frame", m["frame"]}, {"error", "asked about a frustum without a matrix"}}.dump() << "\n" << std::flush;
+      continue;
+    }
     json verdicts = json::array();
+    const auto start = std::chrono::steady_clock::now();
     for (const json& v : m["volumes"]) {
       const json& b = v["aabb"];
       float lo[3], hi[3];
@@ -55,7 +68,7 @@ int main(int argc, char** argv) {
           pv += n[i] * (n[i] >= 0 ? hi[i] : lo[i]);
           nv += n[i] * (n[i] >= 0 ? lo[i] : hi[i]);
         }
-        if (mode == "reject-touching" ? pv <= 0 : pv < 0) {
+        if (is("reject-touching") ? pv <= 0 : pv < 0) {
           outside = true;
           break;
         }
@@ -63,11 +76,13 @@ int main(int argc, char** argv) {
       }
       verdicts.push_back(outside ? "outside" : inside ? "inside" : "intersecting");
     }
-    if (frames == 3 && mode == "wrong-count") verdicts.push_back("outside");
-    if (frames == 3 && mode == "bad-verdict") verdicts[0] = "visible";
+    const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
+    if (frames == 3 && is("wrong-count")) verdicts.push_back("outside");
+    if (frames == 3 && is("bad-verdict")) verdicts[0] = "visible";
     const long id = m["frame"].get<long>();
-    std::cout << json{{"frame", frames == 3 && mode == "out-of-order" ? id + 1 : id}, {"verdicts", verdicts}}.dump() << "\n"
-              << std::flush;
+    json answer = {{"frame", frames == 3 && is("out-of-order") ? id + 1 : id}, {"verdicts", verdicts}, {"ns", ns}};
+    if (frames == 3 && is("bad-ns")) answer["ns"] = "fast";
+    std::cout << answer.dump() << "\n" << std::flush;
   }
   return 0;
 }

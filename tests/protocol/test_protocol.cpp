@@ -8,14 +8,16 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 
 namespace cullproof {
 namespace {
 
-ExternalOptions adapter(const std::string& mode) {
+ExternalOptions adapter(const std::vector<std::string>& modes) {
   ExternalOptions o;
-  o.command = {CULLPROOF_REFERENCE_ADAPTER, mode};
+  o.command = {CULLPROOF_REFERENCE_ADAPTER};
+  o.command.insert(o.command.end(), modes.begin(), modes.end());
   o.timeout = std::chrono::milliseconds(1500);
   return o;
 }
@@ -32,7 +34,7 @@ VerifyOptions small_run() {
 }
 
 TEST(Protocol, TheReferenceAdapterIsAMethodLikeAnyOther) {
-  const std::vector<Method> ext = external_methods(adapter("ok"));
+  const std::vector<Method> ext = external_methods(adapter({"ok"}));
   ASSERT_EQ(ext.size(), 1u);
   EXPECT_EQ(ext[0].name, "reference-pn-vertex");
   EXPECT_EQ(ext[0].origin, Origin::user);
@@ -57,7 +59,7 @@ TEST(Protocol, APlantedBugIsFoundThroughTheProtocolAsInProcess) {
   VerifyOptions o = small_run();
   o.distributions = {gen::Distribution::contact};
   o.corpus = dir;
-  const VerifyResult r = run_verify(o, external_methods(adapter("reject-touching")));
+  const VerifyResult r = run_verify(o, external_methods(adapter({"reject-touching"})));
   const MethodStats& s = r.distributions[0].methods[0];
   EXPECT_TRUE(s.refuted());
   EXPECT_GT(s.false_reject, 0u);
@@ -74,7 +76,7 @@ void expect_fault(const std::string& mode, const std::string& words) {
   VerifyOptions o = small_run();
   o.faults = dir;
   try {
-    const std::vector<Method> ext = external_methods(adapter(mode));
+    const std::vector<Method> ext = external_methods(adapter({mode}));
     run_verify(o, ext);
     FAIL() << mode << ": not stopped";
   } catch (const MethodFault& f) {
@@ -93,9 +95,61 @@ TEST(Protocol, GarbageIsStopped) { expect_fault("garbage", "a line that is not J
 TEST(Protocol, AnUnknownVerdictIsStopped) { expect_fault("bad-verdict", "verdict \"visible\" for volume 0"); }
 TEST(Protocol, AnswersOutOfOrderAreStopped) { expect_fault("out-of-order", "answered frame 4 when frame 3"); }
 
+TEST(Protocol, ABadTimeIsStopped) { expect_fault("bad-ns", "with \"ns\" \"fast\", which is not a number"); }
+
+TEST(Protocol, AProgramsOwnTimeIsShownBesideTheMeasuredCost) {
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::corner};
+  o.cases = 200;
+  o.timing = true;
+  const VerifyResult r = run_verify(o, external_methods(adapter({"ok"})));
+  const MethodStats& s = r.distributions[0].methods[0];
+  ASSERT_TRUE(std::isfinite(s.ns_per_test) && std::isfinite(s.ns_per_test_own));
+  EXPECT_GT(s.ns_per_test_own, 0.0);
+  EXPECT_LT(s.ns_per_test_own, s.ns_per_test);  // its classification alone, without the messages
+  // A method that reports nothing has no own figure.
+  const VerifyResult b = run_verify(o, {*find_builtin("pn-vertex")});
+  EXPECT_TRUE(std::isnan(b.distributions[0].methods[0].ns_per_test_own));
+}
+
+TEST(Protocol, APublishedMethodsRefutedClaimIsAFindingNotAFailure) {
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::contact};
+  const std::vector<Method> user = external_methods(adapter({"reject-touching"}));
+  const std::vector<Method> published = external_methods(adapter({"reject-touching", "published"}));
+  EXPECT_EQ(user[0].origin, Origin::user);
+  EXPECT_EQ(published[0].origin, Origin::published);
+  EXPECT_TRUE(run_verify(o, user).claim_broken());
+  const VerifyResult r = run_verify(o, published);
+  EXPECT_TRUE(r.distributions[0].methods[0].refuted());
+  EXPECT_FALSE(r.claim_broken());
+}
+
+TEST(Protocol, AMatrixMethodIsAskedAboutMatrixFrustaOnly) {
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::uniform};
+  o.cases = 600;
+  // The adapter answers an error for a frustum without a matrix: none may reach it.
+  const VerifyResult r = run_verify(o, external_methods(adapter({"matrix"})));
+  const MethodStats& s = r.distributions[0].methods[0];
+  EXPECT_GT(s.cases, 0u);
+  EXPECT_FALSE(s.refuted());
+  const VerifyResult all = run_verify(o, external_methods(adapter({"ok"})));
+  EXPECT_LT(s.cases, all.distributions[0].methods[0].cases);
+}
+
+TEST(Protocol, AHandshakeFieldOutOfItsListIsRefused) {
+  try {
+    external_methods(adapter({"bad-origin"}));
+    FAIL() << "accepted origin \"own\"";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"origin\" \"own\" is not \"user\" or \"published\""), std::string::npos) << e.what();
+  }
+}
+
 TEST(Protocol, AnotherVersionIsRefusedAtTheHandshake) {
   try {
-    external_methods(adapter("bad-version"));
+    external_methods(adapter({"bad-version"}));
     FAIL() << "accepted protocol 99";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("protocol version 99, this cullproof speaks version 1"), std::string::npos) << e.what();
