@@ -4,6 +4,7 @@
 #include "mutants.hpp"
 
 #include "cullproof/cull.hpp"
+#include "cullproof/cull_bvh.hpp"
 #include "cullproof/cull_coherence.hpp"
 
 #include <glm/glm.hpp>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 namespace cullproof::mutants {
 
@@ -51,6 +53,59 @@ V pn(const Frustum& f, const Aabb& b, const PnKnobs& k = {}) {
     if (!k.inside_from_p_vertex && p.eval(nv) < 0.0f) inside = false;
   }
   return inside ? V::inside : V::intersecting;
+}
+
+// A hierarchical culler with plane masking (Assarsson & Möller 2000, §3.4) as a user would write
+// one for a frame's boxes: a BVH over them (cullproof's median-split builder), each node tested
+// against the planes its parent straddles; a node inside a plane clears that plane's bit for its
+// subtree, a node inside every plane is inside whole, a leaf that still straddles is intersecting.
+struct Hierarchy {
+  bool mask_by_reference = false;  // BUG (hierarchy-mask-to-sibling): the mask passed on by reference
+
+  void visit(const Frustum& f, const Bvh& bvh, std::uint32_t node, unsigned mask_in, unsigned& mask_ref,
+             Visibility* out) const {
+    unsigned& mask = mask_by_reference ? mask_ref : mask_in;
+    const BvhNode& nd = bvh.nodes[node];
+    const auto [begin, end] = bvh.subtree_prims[node];
+    for (int i = 0; i < kPlaneCount; ++i) {
+      if (!(mask & (1u << i))) continue;
+      const Plane& p = f[i];
+      glm::vec3 pv, nv;
+      for (int a = 0; a < 3; ++a) {
+        pv[a] = p.n[a] >= 0.0f ? nd.box.max[a] : nd.box.min[a];
+        nv[a] = p.n[a] >= 0.0f ? nd.box.min[a] : nd.box.max[a];
+      }
+      if (p.eval(pv) < 0.0f) {
+        for (std::uint32_t k = begin; k < end; ++k) out[bvh.prim_order[k]] = V::outside;
+        return;
+      }
+      if (p.eval(nv) >= 0.0f) mask &= ~(1u << i);
+    }
+    if (mask == 0 || nd.is_leaf()) {
+      for (std::uint32_t k = begin; k < end; ++k) out[bvh.prim_order[k]] = mask == 0 ? V::inside : V::intersecting;
+      return;
+    }
+    visit(f, bvh, node + 1, mask, mask, out);
+    visit(f, bvh, nd.right_or_first, mask, mask, out);  // the right child, with the parent's mask
+  }
+
+  void operator()(const Frustum& f, const Aabb* boxes, std::size_t n, Visibility* out) const {
+    const Bvh bvh = build_bvh(std::vector<Aabb>(boxes, boxes + n));
+    unsigned mask = (1u << kPlaneCount) - 1;
+    visit(f, bvh, 0, mask, mask, out);
+  }
+};
+
+Method hierarchy_method(const char* name, bool mask_by_reference) {
+  const Hierarchy h{mask_by_reference};
+  return make_method(
+      info(name), [](const CaseFrustum& f) { return f.planes; },
+      [h](const Frustum& f, const Aabb& b) {
+        Visibility v;
+        h(f, &b, 1, &v);
+        return v;
+      },
+      [h](const Frustum& f, const Aabb* boxes, std::size_t n, Visibility* out) { h(f, boxes, n, out); });
 }
 
 Method pn_method(const char* name, PnKnobs k) {
@@ -295,6 +350,9 @@ std::vector<Mutant> all() {
         "plane masks kept from one volume to the next within a frame (a sibling's, not the parent's)");
   }
   bug(clip_point_method("clip-abs-w", true), "clip-space point test with abs(w): points behind the eye pass");
+  bug(hierarchy_method("hierarchy-mask-to-sibling", true),
+      "a BVH traversal with plane masking whose mask goes to the children by reference: the planes the "
+      "left child clears are skipped for the right child");
 
   control(pn_method("control-pn-vertex", {}), "the n/p-vertex test, written from scratch");
   control(extraction_method("control-own-extraction", {}),
@@ -305,6 +363,7 @@ std::vector<Mutant> all() {
           "the sphere test on planes it normalises, zero normals kept");
   control(plane_cache("control-plane-cache", false), "plane coherency with a cache per object");
   control(clip_point_method("control-clip-point", false), "the clip-space point test");
+  control(hierarchy_method("control-hierarchy", false), "a BVH traversal with plane masking over a frame's boxes");
   return out;
 }
 

@@ -1,10 +1,13 @@
 // ctest -L mutation: the verifier tested by planted bugs. Each mutant (tests/mutants/mutants.cpp)
 // goes through the test helper exactly as a user's culler would, with its default budget (every
 // distribution, 2,000 cases each, seed 1): it must be refuted, with a shrunk case written to the
-// corpus folder. Each control must hold its claim.
+// corpus folder. Each control must hold its claim. Every one is run twice: linked in (the method
+// interface) and behind the process protocol (mutant_adapter.cpp), as a culler in another
+// language is verified.
 #include "mutants.hpp"
 
 #include "cullproof/corpus.hpp"
+#include "cullproof/external.hpp"
 #include "cullproof/gtest.hpp"
 
 #include <gtest/gtest.h>
@@ -16,18 +19,39 @@
 namespace cullproof {
 namespace {
 
-std::vector<mutants::Mutant> every() { return mutants::all(); }
+struct Route {
+  mutants::Mutant mutant;
+  bool protocol = false;  // behind the process protocol instead of linked in
+};
 
-class Mutation : public ::testing::TestWithParam<mutants::Mutant> {};
+std::vector<Route> every() {
+  std::vector<Route> out;
+  for (const mutants::Mutant& m : mutants::all()) out.push_back({m, false});
+  for (const mutants::Mutant& m : mutants::all()) out.push_back({m, true});
+  return out;
+}
+
+// The method as the adapter program offers it (a process of its own for each test).
+Method through_protocol(const std::string& name) {
+  ExternalOptions o;
+  o.command = {CULLPROOF_MUTANT_ADAPTER};
+  for (Method& m : external_methods(o))
+    if (m.name == name) return std::move(m);
+  throw std::runtime_error("the mutant adapter does not offer " + name);
+}
+
+class Mutation : public ::testing::TestWithParam<Route> {};
 
 TEST_P(Mutation, IsRefutedOrHolds) {
-  const mutants::Mutant& m = GetParam();
+  const mutants::Mutant& m = GetParam().mutant;
+  const Method method = GetParam().protocol ? through_protocol(m.method.name) : m.method;
   const auto dir = std::filesystem::temp_directory_path() /
-                   ("cullproof-mutation-" + m.method.name + "-" + std::to_string(::getpid()));
+                   ("cullproof-mutation-" + m.method.name + "-" + std::to_string(::getpid()) +
+                    (GetParam().protocol ? "-protocol" : ""));
   std::filesystem::remove_all(dir);
   testing::ClaimOptions o;
   o.corpus = dir;
-  const ::testing::AssertionResult r = testing::claim_holds(m.method, o);
+  const ::testing::AssertionResult r = testing::claim_holds(method, o);
   if (m.control) {
     EXPECT_TRUE(r) << m.method.name << " (" << m.defect << ") is correct, yet:\n" << r.message();
   } else {
@@ -42,8 +66,8 @@ TEST_P(Mutation, IsRefutedOrHolds) {
   std::filesystem::remove_all(dir);
 }
 
-std::string name_of(const ::testing::TestParamInfo<mutants::Mutant>& p) {
-  std::string s = p.param.method.name;
+std::string name_of(const ::testing::TestParamInfo<Route>& p) {
+  std::string s = p.param.mutant.method.name + (p.param.protocol ? "_via_protocol" : "");
   for (char& c : s)
     if (c == '-') c = '_';
   return s;
