@@ -5,7 +5,7 @@
 //   cullproof verify [--cases N] [--seed S] [--distribution D ...] [--method M ...] [--threads T]
 //                    [--external NAME|all ... [--external-timeout MS] -- PROGRAM ARGS...]
 //                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
-//   cullproof corpus list|show ID|replay [--dir DIR]
+//   cullproof corpus list|show ID|replay [--dir DIR] [--strict] [--external NAME|all -- PROGRAM ARGS...]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
 //
 // Machine interface (keep stable): `methods --json` prints a JSON array of objects with at least
@@ -216,8 +216,23 @@ std::string describe_planes(const Case& c) {
   return out;
 }
 
-int cmd_corpus(const std::string& action, const std::string& dir, const std::string& id) {
-  const std::vector<CorpusEntry> entries = load_corpus(dir);
+// `methods`: what replay runs (the built-in ones, or a program's beside them); `only_external`:
+// replay only the cases of the program's methods. `strict`: replay fails unless every case still
+// fails as recorded.
+int cmd_corpus(const std::string& action, const std::string& dir, const std::string& id, const std::vector<Method>& methods,
+               bool only_external, bool strict) {
+  std::vector<CorpusEntry> entries = load_corpus(dir);
+  if (only_external) {
+    const std::size_t all = entries.size();
+    entries.erase(std::remove_if(entries.begin(), entries.end(),
+                                 [&](const CorpusEntry& e) {
+                                   return std::none_of(methods.begin(), methods.end(), [&](const Method& m) {
+                                     return !m.program.empty() && m.name == e.method;
+                                   });
+                                 }),
+                  entries.end());
+    std::printf("%zu of %zu cases are of the program's methods\n", entries.size(), all);
+  }
   if (action == "list") {
     std::printf("%-48s %-22s %-16s %-18s %s\n", "id", "method", "class", "distribution", "distance");
     for (const auto& e : entries) {
@@ -271,7 +286,7 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
   // replay
   std::size_t still = 0, fixed = 0, changed = 0, truth_changed = 0, regressed = 0;
   for (const auto& e : entries) {
-    const ReplayResult r = replay(e);
+    const ReplayResult r = replay(e, methods);
     const char* status = r.truth_changed ? "TRUTH CHANGED"
                          : r.reproduces  ? "still failing"
                          : r.fixed       ? "fixed"
@@ -287,6 +302,10 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
   }
   std::printf("%zu cases: %zu still failing, %zu fixed, %zu changed, %zu with regressions, %zu truth changed\n",
               entries.size(), still, fixed, changed, regressed, truth_changed);
+  if (strict && still != entries.size()) {
+    std::printf("FAILED: %zu case(s) no longer fail as recorded (--strict)\n", entries.size() - still);
+    return 1;
+  }
   return (truth_changed || regressed) ? 1 : 0;
 }
 #endif
@@ -345,6 +364,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"list", "show", "replay", "rerecord"}));
   corpus_cmd->add_option("id", corpus_id, "Case id (show), method name (rerecord)");
   corpus_cmd->add_option("--dir", corpus_root, "Corpus directory")->capture_default_str();
+  bool strict = false;
+  corpus_cmd->add_flag("--strict", strict, "replay: fail unless every case still fails as recorded");
+  external_options(corpus_cmd);
 #endif
 
 #ifdef CULLPROOF_HAVE_SIM
@@ -400,7 +422,15 @@ int main(int argc, char** argv) {
         std::cerr << "cullproof corpus rerecord: needs a method name (see 'cullproof methods')\n";
         return 2;
       }
-      return cmd_corpus(corpus_action, corpus_root, corpus_id);
+      if (!external.empty() && corpus_action != "replay") {
+        std::cerr << "cullproof corpus: --external is for replay\n";
+        return 2;
+      }
+      // A program's methods beside every built-in one (a case's other recorded verdicts replay too).
+      std::vector<Method> methods = run_methods({}, external, external_command, external_timeout);
+      if (!external.empty())
+        for (const Method& b : builtin_methods()) methods.push_back(b);
+      return cmd_corpus(corpus_action, corpus_root, corpus_id, methods, !external.empty(), strict);
     }
 #endif
   } catch (const CaseError& e) {

@@ -1,4 +1,4 @@
-// Every committed case (corpus/ and examples/) through the oracle and the independent method:
+// Every committed case (corpus/, examples/cases.jsonl, examples/engines/corpus/) through the oracle and the independent method:
 // zero disagreements, and where a case records a truth, the oracle reproduces it.
 #include "cullproof/case_io.hpp"
 #include "cullproof/oracle.hpp"
@@ -16,7 +16,10 @@ namespace fs = std::filesystem;
 
 std::vector<fs::path> case_files() {
   std::vector<fs::path> out;
-  for (const char* dir : {"corpus", "examples"}) {
+  // The example cases and the engines' corpus; not examples/ as a whole, which holds npm's
+  // package files and installed packages.
+  out.push_back("examples/cases.jsonl");
+  for (const char* dir : {"corpus", "examples/engines/corpus"}) {
     if (!fs::exists(dir)) continue;
     for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator(); ++it) {
       // corpus/scenes*/ hold scene descriptions, not cases.
