@@ -115,7 +115,7 @@ std::string fmt_distance(double d) {
 // The methods of a run: the external program's methods named by --external (`all`: every one it
 // offers), beside the built-in ones named by --method, if any; or the built-in ones.
 std::vector<Method> run_methods(const std::vector<std::string>& builtin, const std::vector<std::string>& external,
-                                const std::vector<std::string>& command, int timeout_ms) {
+                                const std::vector<std::string>& command, int timeout_ms, int instances = 1) {
   if (external.empty()) {
     if (!command.empty()) throw std::invalid_argument("a program after '--' needs --external NAME");
     return builtin_methods(builtin);
@@ -124,6 +124,7 @@ std::vector<Method> run_methods(const std::vector<std::string>& builtin, const s
   ExternalOptions eo;
   eo.command = command;
   eo.timeout = std::chrono::milliseconds(timeout_ms);
+  eo.instances = instances;
   std::vector<Method> offered = external_methods(eo);
   std::string names;
   for (const Method& m : offered) names += (names.empty() ? "" : ", ") + m.name;
@@ -326,7 +327,7 @@ int main(int argc, char** argv) {
   classify_cmd->add_option("--method,-m", method_names, "Run only these methods (repeatable)");
   classify_cmd->add_flag("--no-oracle", no_oracle, "Skip the exact oracle (truth, witness, distance)");
   std::vector<std::string> external, external_command;
-  int external_timeout = 10000;
+  int external_timeout = 10000, external_jobs = 1;
   // The process protocol (docs/protocol.md), for classify and verify alike.
   auto external_options = [&](CLI::App* cmd) {
     cmd->add_option("--external", external,
@@ -335,6 +336,11 @@ int main(int argc, char** argv) {
     cmd->add_option("--external-timeout", external_timeout, "Milliseconds to wait for each answer of the program")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--external-jobs", external_jobs,
+                    "Copies of the program to run side by side, asked by whichever thread is free (stateful "
+                    "methods always through the first)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 256));
   };
 
 #ifdef CULLPROOF_HAVE_ORACLE
@@ -411,7 +417,8 @@ int main(int argc, char** argv) {
       vopt.corpus = no_corpus ? std::nullopt : std::optional<std::filesystem::path>(corpus_dir);
       vopt.progress = !no_progress;
       if (*index_opt) vopt.only_index = index;
-      return cmd_verify(vopt, dists, json_file, run_methods(vopt.methods, external, external_command, external_timeout));
+      return cmd_verify(vopt, dists, json_file,
+                        run_methods(vopt.methods, external, external_command, external_timeout, external_jobs));
     }
     if (*corpus_cmd) {
       if (corpus_action == "show" && corpus_id.empty()) {

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -202,19 +203,34 @@ class Process {
 };
 
 struct External {
-  std::shared_ptr<Process> process;
+  std::vector<std::shared_ptr<Process>> processes;  // the program's copies; [0] for stateful methods
   std::string method;
+  bool stateful = false;
   bool wants_reset = false;   // set by reset(): the next frame starts a camera path
   bool wants_matrix = false;  // asked only about frusta given by a clip matrix
-  // What the program reported of its own time ("ns" in answers), under the process's mutex.
+  // What the program reported of its own time ("ns" in answers), under own_mutex.
+  std::mutex own_mutex;
   double own_ns = 0.0;
   std::uint64_t own_volumes = 0;
+  std::atomic<std::size_t> next{0};  // where the search for a free copy starts
+
+  // A copy to ask, locked: the first copy for a stateful method, else the first free one from a
+  // rotating start, else (all busy) the next in turn, waited for.
+  std::pair<Process&, std::unique_lock<std::mutex>> acquire() {
+    if (stateful || processes.size() == 1) return {*processes[0], std::unique_lock<std::mutex>(processes[0]->mutex)};
+    const std::size_t start = next++ % processes.size();
+    for (std::size_t k = 0; k < processes.size(); ++k) {
+      Process& p = *processes[(start + k) % processes.size()];
+      std::unique_lock<std::mutex> g(p.mutex, std::try_to_lock);
+      if (g.owns_lock()) return {p, std::move(g)};
+    }
+    return {*processes[start], std::unique_lock<std::mutex>(processes[start]->mutex)};
+  }
 };
 
 // One frame message and its answer: verdicts for `volumes`, in order.
 void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::size_t n, Answer* out) {
-  Process& p = *e.process;
-  std::lock_guard<std::mutex> g(p.mutex);
+  auto [p, lock] = e.acquire();
   p.check_alive();
   const std::uint64_t id = p.next_frame++;
   std::string msg = fmt::format("{{\"frame\": {}, \"method\": {}, ", id, json(e.method).dump());
@@ -246,6 +262,7 @@ void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::siz
   if (const auto t = a.find("ns"); t != a.end()) {
     if (!t->is_number() || !(t->get<double>() >= 0.0))
       p.fail(fmt::format("answered {} with \"ns\" {}, which is not a number of nanoseconds", what, t->dump()));
+    std::lock_guard<std::mutex> g(e.own_mutex);
     e.own_ns += t->get<double>();
     e.own_volumes += n;
   }
@@ -307,8 +324,18 @@ unsigned kinds_of(const json& j, const std::string& where) {
 }  // namespace
 
 std::vector<Method> external_methods(const ExternalOptions& options) {
-  auto process = std::make_shared<Process>(options);
-  const std::string line = process->read_line("the handshake");
+  if (options.instances < 1) throw std::invalid_argument("external: instances must be at least 1");
+  std::vector<std::shared_ptr<Process>> processes;
+  std::vector<std::string> handshakes;
+  for (int i = 0; i < options.instances; ++i) {
+    processes.push_back(std::make_shared<Process>(options));
+    handshakes.push_back(processes.back()->read_line("the handshake"));
+    if (handshakes.back() != handshakes[0])
+      processes.back()->fail(fmt::format("copy {} of the program offered another handshake than the first: {}", i + 1,
+                                         excerpt(handshakes.back())));
+  }
+  const std::shared_ptr<Process>& process = processes[0];
+  const std::string& line = handshakes[0];
   json h;
   try {
     h = json::parse(line);
@@ -350,7 +377,10 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
     if (origin == "published") info.origin = Origin::published;
     else if (origin != "user")
       throw std::runtime_error(at + ": \"origin\" " + json(origin).dump() + " is not \"user\" or \"published\"");
-    auto e = std::make_shared<External>(External{process, info.name});
+    auto e = std::make_shared<External>();
+    e->processes = processes;
+    e->method = info.name;
+    e->stateful = info.stateful;
     const std::string frustum = m.value("frustum", std::string("planes"));
     if (frustum == "matrix") e->wants_matrix = true;
     else if (frustum != "planes")
@@ -364,7 +394,7 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
         /*batch=*/true);
     method.on_reset([e] { e->wants_reset = true; });
     method.on_own_timing([e] {
-      std::lock_guard<std::mutex> g(e->process->mutex);
+      std::lock_guard<std::mutex> g(e->own_mutex);
       const std::pair<double, std::uint64_t> r{e->own_ns, e->own_volumes};
       e->own_ns = 0.0;
       e->own_volumes = 0;

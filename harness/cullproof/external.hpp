@@ -18,6 +18,10 @@ struct ExternalOptions {
   std::vector<std::string> command;  ///< the program and its arguments (run without a shell)
   /// How long cullproof waits for the handshake and for each answer before calling the program hung.
   std::chrono::milliseconds timeout{10000};
+  /// Copies of the program to run side by side (at least 1): the campaign's threads ask whichever
+  /// is free, so round trips overlap. A stateful method is always asked through the first copy,
+  /// which sees its frames in order. Every copy must offer the same methods.
+  int instances = 1;
 };
 
 /// Starts the program, reads its handshake and returns its methods (origin user unless the

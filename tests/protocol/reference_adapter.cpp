@@ -4,7 +4,8 @@
 // protocol fault, for the protocol tests: crash, hang, wrong-count, garbage, bad-verdict,
 // out-of-order, bad-version, bad-ns; or the planted culling bug reject-touching (`<= 0` rejects),
 // which the verifier must find through the protocol as it does in process. `published` declares
-// the method a text under test, `matrix` asks for matrix frusta only. It reports its own time.
+// the method a text under test, `matrix` asks for matrix frusta only, `unstable` describes itself
+// differently in every process. It reports its own time.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -13,6 +14,8 @@
 #include <iostream>
 #include <string>
 #include <thread>
+
+#include <unistd.h>
 
 using nlohmann::json;
 
@@ -33,6 +36,7 @@ int main(int argc, char** argv) {
                    {"three_way", true},
                    {"stateful", false},
                    {"origin", is("published") ? "published" : is("bad-origin") ? "own" : "user"},
+                   {"description", is("unstable") ? "process " + std::to_string(::getpid()) : "the n/p-vertex test"},
                    {"frustum", is("matrix") ? "matrix" : "planes"}}}}};
   std::cout << hello.dump() << "\n" << std::flush;
   std::string line;

@@ -147,6 +147,33 @@ TEST(Protocol, AHandshakeFieldOutOfItsListIsRefused) {
   }
 }
 
+TEST(Protocol, CopiesOfTheProgramGiveTheSameResultsAsOne) {
+  ExternalOptions two = adapter({"ok"});
+  two.instances = 2;
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::corner, gen::Distribution::camera_path};
+  const VerifyResult a = run_verify(o, external_methods(adapter({"ok"})));
+  const VerifyResult b = run_verify(o, external_methods(two));
+  for (std::size_t d = 0; d < a.distributions.size(); ++d) {
+    const MethodStats& x = a.distributions[d].methods[0];
+    const MethodStats& y = b.distributions[d].methods[0];
+    EXPECT_EQ(x.cases, y.cases);
+    EXPECT_EQ(x.false_intersect, y.false_intersect);
+    EXPECT_EQ(x.under_inside, y.under_inside);
+  }
+}
+
+TEST(Protocol, CopiesThatOfferDifferentMethodsAreRefused) {
+  ExternalOptions o = adapter({"unstable"});
+  o.instances = 2;
+  try {
+    external_methods(o);
+    FAIL() << "accepted two different handshakes";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("copy 2 of the program offered another handshake"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Protocol, AnotherVersionIsRefusedAtTheHandshake) {
   try {
     external_methods(adapter({"bad-version"}));
