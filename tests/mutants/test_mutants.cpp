@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 namespace cullproof {
@@ -23,6 +24,9 @@ struct Route {
   mutants::Mutant mutant;
   bool protocol = false;  // behind the process protocol instead of linked in
 };
+
+// How GoogleTest names a route in its output (instead of the bytes of the struct).
+void PrintTo(const Route& r, std::ostream* os) { *os << r.mutant.method.name << (r.protocol ? " via the protocol" : ""); }
 
 std::vector<Route> every() {
   std::vector<Route> out;
