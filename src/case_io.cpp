@@ -3,11 +3,14 @@
 // nlohmann::json parses the text through its SAX interface so that (1) every number keeps its
 // original text, which is rounded once to float (a DOM would round to double first, and
 // decimal -> double -> float can double-round), and (2) every value keeps the line it stood on.
+// The same interface enforces kMaxCaseDepth as the parser goes.
 #include "cullproof/case_io.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -15,11 +18,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <random>
-#include <sstream>
 #include <system_error>
 
 namespace cullproof {
@@ -27,7 +28,7 @@ namespace cullproof {
 using nlohmann::json;
 
 CaseError::CaseError(std::string file, int line, std::string field, const std::string& problem)
-    : std::runtime_error(file + ":" + std::to_string(line) + ": " +
+    : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " +
                          (field.empty() ? std::string() : "field '" + field + "': ") + problem),
       file_(std::move(file)),
       line_(line),
@@ -136,6 +137,13 @@ struct ValueMeta {
   std::string raw;  // number text, for numbers
 };
 
+// Values are recorded in Reader::meta only while their path is at most this long: every field the
+// case format reads has a short path (the longest, "volume.obb.axes[2][2]", has 21 characters),
+// and a path per value of a free field under long keys or deep nesting would cost the product of
+// the path's length and the number of values (a 1 MiB case could ask for terabytes). An
+// unrecorded value's line is its nearest recorded ancestor's.
+constexpr std::size_t kRecordedPathChars = 64;
+
 class Reader : public nlohmann::json_sax<json> {
  public:
   Reader(std::string source, LineState* st) : source_(std::move(source)), st_(st) {}
@@ -156,8 +164,7 @@ class Reader : public nlohmann::json_sax<json> {
   bool end_array() override { stack_.pop_back(); return true; }
   bool key(string_t& k) override {
     Frame& f = stack_.back();
-    if (f.node->contains(k))
-      throw CaseError(source_, st_->token_line, join(f.path, k), "duplicate field");
+    if (f.node->contains(k)) throw CaseError(source_, st_->token_line, join(full_path(), k), "duplicate field");
     key_ = k;
     return true;
   }
@@ -173,6 +180,8 @@ class Reader : public nlohmann::json_sax<json> {
  private:
   struct Frame {
     json* node;
+    std::string step;  // the key or "[i]" that leads to it from its parent ("" at the root)
+    bool recorded;     // its path is within kRecordedPathChars (then `path` is it)
     std::string path;
   };
   std::vector<Frame> stack_;
@@ -184,33 +193,57 @@ class Reader : public nlohmann::json_sax<json> {
     return base.empty() ? k : base + "." + k;
   }
 
-  // Adds a value at the current position; returns its path and the stored node.
-  std::pair<std::string, json*> place(json v) {
+  // The path of the open container, for messages (any length).
+  std::string full_path() const {
+    std::string p;
+    for (std::size_t i = 1; i < stack_.size(); ++i)
+      p = stack_[i].step[0] == '[' ? p + stack_[i].step : join(p, stack_[i].step);
+    return p;
+  }
+
+  struct Placed {
+    json* node;
+    std::string step;  // containers only
+    bool recorded;
+    std::string path;  // when recorded
+  };
+  // Adds a value at the current position.
+  Placed place(json v, bool container) {
     if (stack_.empty()) {
       root = std::move(v);
-      return {"", &root};
+      return {&root, {}, true, {}};
     }
     Frame& f = stack_.back();
-    if (f.node->is_object()) {
-      std::string path = join(f.path, key_);
+    const bool in_object = f.node->is_object();
+    const std::string index = in_object ? std::string() : "[" + std::to_string(f.node->size()) + "]";
+    const std::size_t length =
+        in_object ? f.path.size() + (f.path.empty() ? 0 : 1) + key_.size() : f.path.size() + index.size();
+    Placed p{nullptr, {}, f.recorded && length <= kRecordedPathChars, {}};
+    if (p.recorded) p.path = in_object ? join(f.path, key_) : f.path + index;
+    if (container) p.step = in_object ? key_ : index;
+    if (in_object) {
       json& slot = (*f.node)[key_];
       slot = std::move(v);
-      return {path, &slot};
+      p.node = &slot;
+    } else {
+      f.node->push_back(std::move(v));
+      p.node = &f.node->back();
     }
-    std::string path = f.path + "[" + std::to_string(f.node->size()) + "]";
-    f.node->push_back(std::move(v));
-    return {path, &f.node->back()};
+    return p;
   }
   bool put(json v, std::string raw) {
-    auto [path, node] = place(std::move(v));
-    (void)node;
-    meta[path] = ValueMeta{st_->token_line, std::move(raw)};
+    const Placed p = place(std::move(v), false);
+    if (p.recorded) meta[p.path] = ValueMeta{st_->token_line, std::move(raw)};
     return true;
   }
   bool open(json v) {
-    auto [path, node] = place(std::move(v));
-    meta[path] = ValueMeta{st_->token_line, {}};
-    stack_.push_back(Frame{node, path});
+    if (stack_.size() >= std::size_t(kMaxCaseDepth))
+      throw CaseError(source_, st_->token_line, "",
+                      "arrays and objects nested deeper than " + std::to_string(kMaxCaseDepth) +
+                          ", the limit for one case");
+    Placed p = place(std::move(v), true);
+    if (p.recorded) meta[p.path] = ValueMeta{st_->token_line, {}};
+    stack_.push_back(Frame{p.node, std::move(p.step), p.recorded, std::move(p.path)});
     return true;
   }
 };
@@ -381,18 +414,96 @@ class CaseParser {
   }
 };
 
-std::string read_all(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw std::runtime_error(file.string() + ": read error");
-  return ss.str();
+// read_file_limited for the case readers: its limit errors as CaseErrors.
+std::string read_case_text(const std::filesystem::path& file, std::uintmax_t max_bytes, std::string_view what) {
+  try {
+    return read_file_limited(file, max_bytes, what);
+  } catch (const InputLimitError& e) {
+    throw CaseError(file.string(), e.line(), "", e.what());
+  }
 }
 
 }  // namespace
 
+// ---------------------------------------------------------------------------------------------
+// Bounded reading
+
+std::string byte_count_text(std::uintmax_t n) {
+  std::string s = std::to_string(n) + " bytes";
+  if (n >= (1u << 20) && n % (1u << 20) == 0) return s + " (" + std::to_string(n >> 20) + " MiB)";
+  if (n >= (1u << 10) && n % (1u << 10) == 0) return s + " (" + std::to_string(n >> 10) + " KiB)";
+  return s;
+}
+
+std::string read_file_limited(const std::filesystem::path& file, std::uintmax_t max_bytes, std::string_view what) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw std::system_error(errno, std::generic_category(), file.string() + ": cannot open for reading");
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st{};
+  if (::fstat(fd, &st) != 0) throw std::system_error(errno, std::generic_category(), file.string() + ": read error");
+  const bool regular = S_ISREG(st.st_mode);
+  if (regular && std::uintmax_t(st.st_size) > max_bytes)
+    throw InputLimitError(0, "a file of " + std::to_string(st.st_size) + " bytes, over the limit of " +
+                                 byte_count_text(max_bytes) + " for " + std::string(what));
+  std::string text;
+  if (regular) text.reserve(std::size_t(st.st_size));
+  char buf[1 << 16];
+  for (;;) {
+    // At most one byte past the limit: enough to tell that the input goes on.
+    const std::size_t want = std::size_t(std::min<std::uintmax_t>(sizeof buf, max_bytes + 1 - text.size()));
+    const ssize_t n = ::read(fd, buf, want);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw std::system_error(errno, std::generic_category(), file.string() + ": read error");
+    }
+    if (n == 0) return text;
+    text.append(buf, std::size_t(n));
+    if (text.size() > max_bytes) {
+      const int line = 1 + int(std::count(text.begin(), text.begin() + std::ptrdiff_t(max_bytes), '\n'));
+      throw InputLimitError(line, "the input goes on past the limit of " + byte_count_text(max_bytes) + " for " +
+                                      std::string(what) + " (passed on this line)");
+    }
+  }
+}
+
+void check_line_lengths(std::string_view text, std::size_t max_bytes, std::string_view what) {
+  int line = 1;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    if (end - pos > max_bytes)
+      throw InputLimitError(line, "a line of " + std::to_string(end - pos) + " bytes, over the limit of " +
+                                      byte_count_text(max_bytes) + " for a line of " + std::string(what));
+    pos = end + 1;
+    ++line;
+  }
+}
+
+json parse_json_limited(std::string_view text, int max_depth, std::string_view what) {
+  LineState st;
+  CountingIterator b{text.data(), &st}, e{text.data() + text.size(), &st};
+  // `depth` is the number of containers already open when one starts.
+  const json::parser_callback_t within = [&](int depth, json::parse_event_t event, json&) {
+    if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) && depth >= max_depth)
+      throw InputLimitError(st.token_line, "arrays and objects nested deeper than " + std::to_string(max_depth) +
+                                               ", the limit for " + std::string(what));
+    return true;
+  };
+  return json::parse(b, e, within);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading cases
+
 Case parse_case(std::string_view text, std::string_view source, int first_line) {
+  if (text.size() > kMaxCaseBytes)
+    throw CaseError(std::string(source), first_line, "",
+                    "a case of " + std::to_string(text.size()) + " bytes, over the limit of " +
+                        byte_count_text(kMaxCaseBytes) + " for one case (a line of JSON Lines, or a one-case file)");
   LineState st;
   st.line = st.token_line = first_line;
   Reader reader{std::string(source), &st};
@@ -402,12 +513,12 @@ Case parse_case(std::string_view text, std::string_view source, int first_line) 
 }
 
 Case read_case_file(const std::filesystem::path& file) {
-  const std::string text = read_all(file);
+  const std::string text = read_case_text(file, kMaxCaseBytes, "a one-case file");
   return parse_case(text, file.string(), 1);
 }
 
 std::vector<Case> read_cases_jsonl(const std::filesystem::path& file) {
-  const std::string text = read_all(file);
+  const std::string text = read_case_text(file, kMaxCaseFileBytes, "a JSON Lines case file");
   std::vector<Case> out;
   std::size_t pos = 0;
   int line = 1;

@@ -2,7 +2,7 @@
 // one case per file, batches are JSON Lines. Numbers are JSON numbers or C99 hex-float strings,
 // each rounded once, to the nearest float, from its text (never through double). Writers emit
 // the shortest decimal that reads back to the same float. Malformed input is rejected with a
-// CaseError naming the file, the line and the field.
+// CaseError naming the file, the line and the field; so is input past the readers' limits below.
 #pragma once
 
 #include "cullproof/frustum_build.hpp"
@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -18,6 +20,23 @@
 #include <vector>
 
 namespace cullproof {
+
+// ---- Limits -----------------------------------------------------------------------------------
+// A case file may come from anywhere. Every reader here refuses input past these limits with a
+// CaseError naming the file, the line and the limit, before the input costs more than a small
+// multiple of the limit in memory or time (nothing is truncated or skipped). They are far above
+// what real cases need.
+
+/// Arrays and objects nested in one case. A case nests 5 deep (volume.obb.axes[i]), a corpus
+/// record with its camera path 6; the limit leaves the free fields room. Refused as soon as the
+/// parser opens the first array or object past it.
+inline constexpr int kMaxCaseDepth = 64;
+/// Bytes of one case: a line of a JSON Lines file, or the whole of a one-case file (so no line of
+/// a case file is longer). The largest committed corpus case is under 3 KB.
+inline constexpr std::size_t kMaxCaseBytes = std::size_t(1) << 20;  // 1 MiB
+/// Bytes of a JSON Lines file: about a million cases of the usual 300 bytes. A regular file is
+/// refused by its size before it is read; a pipe when its input passes the limit.
+inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t(256) << 20;  // 256 MiB
 
 /// One case. Fields the reader does not know are kept, untouched, in `extra`.
 struct Case {
@@ -29,7 +48,8 @@ struct Case {
   nlohmann::json extra = nlohmann::json::object();  ///< verdicts, witness, distance, seed, ...
 };
 
-/// Error in a case file: where (file, 1-based line) and which field (e.g. "volume.obb.half[1]").
+/// Error in a case file: where (file, 1-based line; 0 when it is about the file as a whole, as its
+/// size) and which field (e.g. "volume.obb.half[1]").
 class CaseError : public std::runtime_error {
  public:
   CaseError(std::string file, int line, std::string field, const std::string& problem);
@@ -44,12 +64,14 @@ class CaseError : public std::runtime_error {
 };
 
 /// Parses one case from JSON text. `source` names the file in errors; `first_line` is the line
-/// the text starts on (for JSON Lines). Throws CaseError.
+/// the text starts on (for JSON Lines). Throws CaseError, also for text longer than kMaxCaseBytes
+/// or nested deeper than kMaxCaseDepth.
 Case parse_case(std::string_view text, std::string_view source = "<input>", int first_line = 1);
-/// Reads a file holding one case (any layout). Throws CaseError (or std::runtime_error when the
-/// file cannot be read).
+/// Reads a file holding one case (any layout), of at most kMaxCaseBytes. Throws CaseError (or
+/// std::system_error when the file cannot be read).
 Case read_case_file(const std::filesystem::path& file);
-/// Reads JSON Lines: one case per non-blank line. Throws CaseError at the first bad line.
+/// Reads JSON Lines: one case per non-blank line, a file of at most kMaxCaseFileBytes. Throws
+/// CaseError at the first bad line (or std::system_error when the file cannot be read).
 std::vector<Case> read_cases_jsonl(const std::filesystem::path& file);
 /// ".jsonl" files as JSON Lines, anything else as one case.
 std::vector<Case> read_cases(const std::filesystem::path& file);
@@ -71,6 +93,37 @@ std::string format_case(const Case& c, bool pretty = false);
 void write_case_file(const std::filesystem::path& file, const Case& c, bool overwrite = true);
 /// Writes arbitrary text atomically (same guarantees as write_case_file).
 void write_file_atomic(const std::filesystem::path& file, std::string_view text, bool overwrite = true);
+
+// ---- Bounded reading, for every reader of JSON from outside (case files, scene files, the
+// process protocol's messages): each reader names its own limits and turns InputLimitError into
+// its own error.
+
+/// Input past a limit of its reader. what() says which limit was passed and by how much; line()
+/// is where: 1-based, or 0 when it is about the input as a whole (a file's size).
+class InputLimitError : public std::runtime_error {
+ public:
+  InputLimitError(int line, const std::string& problem) : std::runtime_error(problem), line_(line) {}
+  int line() const noexcept { return line_; }
+
+ private:
+  int line_;
+};
+
+/// "1048576 bytes (1 MiB)": a byte count as the limits' messages give it.
+std::string byte_count_text(std::uintmax_t n);
+/// The whole of `file`, at most `max_bytes` of it. A regular file larger than that is refused by
+/// its size before anything is read (line 0); any other file (a pipe) when its input passes the
+/// limit (the line where it does). `what` names the kind of file in the message ("a scene file").
+/// Throws InputLimitError, or std::system_error when the file cannot be opened or read.
+std::string read_file_limited(const std::filesystem::path& file, std::uintmax_t max_bytes, std::string_view what);
+/// Throws InputLimitError for the first line of `text` longer than `max_bytes` (without its '\n');
+/// `what` names what the line belongs to ("a scene file").
+void check_line_lengths(std::string_view text, std::size_t max_bytes, std::string_view what);
+/// Parses JSON text into a document, refusing nesting of arrays and objects deeper than
+/// `max_depth` as soon as the parser opens the first container past it (nlohmann's parser
+/// callback), before the document grows. Throws InputLimitError (with the line) for that, and
+/// nlohmann::json::parse_error for text that is not JSON.
+nlohmann::json parse_json_limited(std::string_view text, int max_depth, std::string_view what);
 
 /// The volume as the case-format JSON object ({"aabb": ...} etc.), numbers as shortest decimals.
 std::string format_volume(const Volume& v);

@@ -1,14 +1,22 @@
 // Case files: exact numbers, every kind of malformed input named by file, line and field,
-// atomic writes.
+// input past the readers' limits refused fast, atomic writes.
 #include "cullproof/case_io.hpp"
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <thread>
 
 using namespace cullproof;
 namespace fs = std::filesystem;
@@ -194,6 +202,158 @@ TEST(CaseErrors, JsonLinesNameTheLine) {
     EXPECT_EQ(e.field(), "volume.aabb.min[1]");
   }
   fs::remove_all(dir);
+}
+
+// ---- limits: refused by name, where, and before the input costs time or memory ----
+
+// What `f` cost: wall time, and how far the process's peak resident memory rose (a lower bound of
+// what it allocated: 0 when an earlier test had already peaked higher).
+struct Cost {
+  double seconds;
+  long peak_growth_mib;
+};
+template <class F>
+Cost cost_of(F&& f) {
+  auto peak_kib = [] {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_maxrss;
+  };
+  const long before = peak_kib();
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return {s, (peak_kib() - before) / 1024};
+}
+
+// The CaseError `f` throws (fails the test when it throws none).
+template <class F>
+CaseError case_error(F&& f) {
+  try {
+    f();
+  } catch (const CaseError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected a CaseError";
+  return CaseError("", 0, "", "none");
+}
+
+std::string nested(int depth) { return std::string(std::size_t(depth), '[') + std::string(std::size_t(depth), ']'); }
+
+TEST(CaseLimits, DeepNestingIsRefusedAsTheParserReachesTheLimit) {
+  // Before the limit, 30,000 levels took 2.6 GB and 16 s, 100,000 levels more than 3 minutes.
+  for (int depth : {30000, 100000}) {
+    const std::string text = std::string(std::size_t(depth), '[');
+    CaseError e("", 0, "", "");
+    const Cost c = cost_of([&] { e = case_error([&] { parse_case(text, "deep.json"); }); });
+    EXPECT_EQ(std::string(e.what()), "deep.json:1: arrays and objects nested deeper than 64, the limit for one case");
+    EXPECT_LT(c.seconds, 1.0) << depth << " levels";
+    EXPECT_LT(c.peak_growth_mib, 64) << depth << " levels";
+  }
+  // The line is the one where the limit is passed; a whole JSON Lines file stops there too.
+  const fs::path dir = temp_dir();
+  const fs::path file = dir / "deep.jsonl";
+  {
+    std::ofstream out(file);
+    out << with_volume("{\"point\": [0,0,-2]}") << "\n" << with_volume("{\"point\": [0,0,-2]}", ", \"x\": " + nested(200)) << "\n";
+  }
+  const CaseError e = case_error([&] { read_cases_jsonl(file); });
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_NE(std::string(e.what()).find("nested deeper than 64"), std::string::npos) << e.what();
+  fs::remove_all(dir);
+}
+
+TEST(CaseLimits, NestingUpToTheLimitIsRead) {
+  // The case object is level 1: a free field may nest 63 more.
+  const Case c = parse_case(with_volume("{\"point\": [0,0,-2]}", ", \"x\": " + nested(kMaxCaseDepth - 1)));
+  EXPECT_TRUE(c.extra["x"].is_array());
+  EXPECT_NE(error_of(with_volume("{\"point\": [0,0,-2]}", ", \"x\": " + nested(kMaxCaseDepth))).find("nested deeper than 64"),
+            std::string::npos);
+}
+
+TEST(CaseLimits, LongLineIsRefusedWithItsLineNumber) {
+  const fs::path dir = temp_dir();
+  const fs::path file = dir / "long.jsonl";
+  const std::string good = with_volume("{\"point\": [0,0,-2]}");
+  {
+    std::ofstream out(file);
+    // Line 2 is exactly as long as the limit allows (padding is JSON whitespace); line 3 is 1 byte longer.
+    out << good << "\n"
+        << std::string(kMaxCaseBytes - good.size(), ' ') << good << "\n"
+        << std::string(kMaxCaseBytes - good.size() + 1, ' ') << good << "\n";
+  }
+  CaseError e("", 0, "", "");
+  const Cost c = cost_of([&] { e = case_error([&] { read_cases_jsonl(file); }); });
+  EXPECT_EQ(std::string(e.what()), file.string() + ":3: a case of 1048577 bytes, over the limit of 1048576 bytes (1 MiB) "
+                                                   "for one case (a line of JSON Lines, or a one-case file)");
+  EXPECT_LT(c.seconds, 1.0);
+  fs::remove_all(dir);
+}
+
+TEST(CaseLimits, OneCaseFileOverTheLimitIsRefusedBeforeReading) {
+  const fs::path dir = temp_dir();
+  const fs::path file = dir / "big.json";
+  {
+    std::ofstream out(file);
+    out << std::string(kMaxCaseBytes, ' ') << with_volume("{\"point\": [0,0,-2]}");
+  }
+  const CaseError e = case_error([&] { read_case_file(file); });
+  EXPECT_EQ(e.line(), 0);  // the file as a whole
+  EXPECT_EQ(std::string(e.what()), file.string() + ": a file of " + std::to_string(fs::file_size(file)) +
+                                       " bytes, over the limit of 1048576 bytes (1 MiB) for a one-case file");
+  fs::remove_all(dir);
+}
+
+TEST(CaseLimits, JsonLinesFileOverTheLimitIsRefusedBeforeReading) {
+  const fs::path dir = temp_dir();
+  const fs::path file = dir / "huge.jsonl";
+  { std::ofstream out(file); }
+  fs::resize_file(file, kMaxCaseFileBytes + 1);  // sparse: no disk, no time
+  CaseError e("", 0, "", "");
+  const Cost c = cost_of([&] { e = case_error([&] { read_cases(file); }); });
+  EXPECT_EQ(std::string(e.what()), file.string() + ": a file of 268435457 bytes, over the limit of 268435456 bytes (256 MiB) "
+                                                   "for a JSON Lines case file");
+  EXPECT_LT(c.seconds, 1.0);
+  EXPECT_LT(c.peak_growth_mib, 64);
+  fs::remove_all(dir);
+}
+
+TEST(CaseLimits, PipeIsCutOffWhereItPassesTheLimit) {
+  // A pipe has no size to check first: the reader stops one byte past the limit and names the line.
+  const fs::path dir = temp_dir();
+  const fs::path fifo = dir / "pipe.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  std::signal(SIGPIPE, SIG_IGN);  // the writer is left with nobody reading
+  std::thread writer([&] {
+    const int fd = ::open(fifo.c_str(), O_WRONLY);
+    if (fd < 0) return;
+    const std::string line(1023, ' ');
+    for (int i = 0; i < 2048; ++i)  // 2 MiB of 1 KiB lines
+      if (::write(fd, (line + "\n").data(), 1024) != 1024) break;
+    ::close(fd);
+  });
+  const CaseError e = case_error([&] { read_case_file(fifo); });
+  writer.join();
+  EXPECT_EQ(std::string(e.what()), fifo.string() + ":1025: the input goes on past the limit of 1048576 bytes (1 MiB) "
+                                                   "for a one-case file (passed on this line)");
+  fs::remove_all(dir);
+}
+
+TEST(CaseLimits, LongFieldNamesDoNotMultiplyTheCost) {
+  // Each value of a free field under a long key used to keep its whole path (key included): this
+  // case of 120 KB cost 1 GB and 2 s.
+  const std::string key(100000, 'k');
+  std::string values = "0";
+  for (int i = 1; i < 10000; ++i) values += ",0";
+  const std::string text = with_volume("{\"point\": [0,0,-2]}", ", \"" + key + "\": {\"a\": [" + values + "]}");
+  Case c;
+  const Cost cost = cost_of([&] { c = parse_case(text); });
+  EXPECT_EQ(c.extra[key]["a"].size(), 10000u);
+  EXPECT_LT(cost.peak_growth_mib, 64);
+  EXPECT_LT(cost.seconds, 1.0);
+  // A duplicate field there is still named by its whole path.
+  const std::string dup = with_volume("{\"point\": [0,0,-2]}", ", \"" + key + "\": [{\"b\": 1, \"b\": 2}]");
+  EXPECT_NE(error_of(dup).find("field '" + key + "[0].b': duplicate field"), std::string::npos);
 }
 
 // ---- writing ----
