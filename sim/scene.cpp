@@ -3,10 +3,11 @@
 // a misspelt field is never silently ignored. The format is documented in corpus/scenes/README.md.
 #include "cullproof/scene.hpp"
 
+#include "cullproof/case_io.hpp"
+
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
-#include <sstream>
+#include <system_error>
 
 namespace cullproof::sim {
 
@@ -394,14 +395,21 @@ SceneDesc parse_scene(const json& j, const std::string& source) {
 
 SceneDesc load_scene(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw SceneError(name, "<file>", "cannot open the scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  auto where = [](const InputLimitError& e) { return e.line() > 0 ? "line " + std::to_string(e.line()) + ": " : std::string(); };
+  std::string text;
+  try {
+    text = read_file_limited(file, kMaxSceneFileBytes, "a scene file");
+  } catch (const InputLimitError& e) {
+    throw SceneError(name, "<file>", where(e) + e.what());
+  } catch (const std::system_error& e) {
+    throw SceneError(name, "<file>", "cannot read the scene file: " + e.code().message());
+  }
   json j;
   try {
-    j = json::parse(text);
+    check_line_lengths(text, kMaxSceneLineBytes, "a scene file");
+    j = parse_json_limited(text, kMaxSceneDepth, "a scene file");
+  } catch (const InputLimitError& e) {
+    throw SceneError(name, "<json>", where(e) + e.what());
   } catch (const json::parse_error& e) {
     int line = 1;
     for (std::size_t i = 0; i < std::min<std::size_t>(e.byte, text.size()); ++i) line += text[i] == '\n';

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -28,6 +29,20 @@ namespace cullproof::sim {
 
 /// The format tag every scene file carries ("format": "cullproof-scene/1").
 inline constexpr const char* kSceneFormat = "cullproof-scene/1";
+
+// Limits of load_scene: a scene file past one is refused with a SceneError naming the file, the
+// limit and the line, before it costs more than a small multiple of the limit in memory or time.
+// The shipped scenes are about 1 KB, nest 4 deep (camera.keyframes[i].eye) and have lines of under
+// 200 bytes; "reference" is free-form, hence room to spare.
+
+/// Arrays and objects nested in a scene file; refused as soon as the parser opens the first
+/// container past it.
+inline constexpr int kMaxSceneDepth = 64;
+/// Bytes of one line of a scene file (without its '\n').
+inline constexpr std::size_t kMaxSceneLineBytes = std::size_t(1) << 20;  // 1 MiB
+/// Bytes of a scene file (a regular file is refused by its size before it is read); about 200,000
+/// keyframes.
+inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t(16) << 20;  // 16 MiB
 
 /// A bad scene file: what() is "<file>: <field>: <problem>" (field as a JSON path, e.g.
 /// "camera.frames").
@@ -182,7 +197,8 @@ struct SceneDesc {
 /// non-positive size/count/frame count, near >= far, fov outside (0, 180), an unknown model
 /// reference, a moving group or instance out of range, keyframes not increasing.
 SceneDesc parse_scene(const nlohmann::json& j, const std::string& source = "<scene>");
-/// Reads a scene file (parse errors name the file and line).
+/// Reads a scene file (parse errors name the file and line). Throws SceneError, also for a file
+/// past kMaxSceneFileBytes, a line past kMaxSceneLineBytes or nesting past kMaxSceneDepth.
 SceneDesc load_scene(const std::filesystem::path& file);
 
 // ---------------------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -136,6 +137,68 @@ TEST(SceneFile, JsonSyntaxErrorNamesFileAndLine) {
     EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
   }
   EXPECT_THROW(load_scene(temp_dir() / "no-such-scene.json"), SceneError);
+}
+
+// The SceneError load_scene(p) throws; fails the test when it throws none.
+SceneError scene_error(const std::filesystem::path& p) {
+  try {
+    load_scene(p);
+  } catch (const SceneError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "accepted " << p;
+  return SceneError("", "", "none");
+}
+
+// A valid scene file whose "reference" field (free-form) is `reference`, on line 2.
+std::string scene_text(const std::string& reference) {
+  return valid_scene().dump().insert(1, "\n  \"reference\": " + reference + ",\n  ");
+}
+
+TEST(SceneLimits, DeepNestingIsRefusedAsTheParserReachesTheLimit) {
+  const auto p = temp_dir() / "deep.json";
+  for (int depth : {30000, 100000}) {
+    write(p, scene_text(std::string(std::size_t(depth), '[')));
+    const auto t0 = std::chrono::steady_clock::now();
+    const SceneError e = scene_error(p);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+    EXPECT_EQ(e.field(), "<json>");
+    EXPECT_EQ(std::string(e.what()),
+              p.string() + ": <json>: line 2: arrays and objects nested deeper than 64, the limit for a scene file");
+  }
+  // The scene object is level 1: "reference" may nest 63 more.
+  const std::string ok = std::string(kMaxSceneDepth - 1, '[') + std::string(kMaxSceneDepth - 1, ']');
+  write(p, scene_text(ok));
+  EXPECT_NO_THROW(load_scene(p));
+  write(p, scene_text("[" + ok + "]"));
+  EXPECT_NE(std::string(scene_error(p).what()).find("nested deeper than 64"), std::string::npos);
+}
+
+TEST(SceneLimits, LongLineIsRefusedWithItsLineNumber) {
+  const auto p = temp_dir() / "long.json";
+  // Line 2 is as long as the limit allows; then one byte longer.
+  for (std::size_t extra : {0, 1}) {
+    const std::string head = "\"reference\": \"\",";
+    write(p, scene_text("\"" + std::string(kMaxSceneLineBytes + extra - head.size() - 2, 'x') + "\""));
+    if (extra == 0) {
+      EXPECT_NO_THROW(load_scene(p));
+      continue;
+    }
+    const SceneError e = scene_error(p);
+    EXPECT_EQ(std::string(e.what()), p.string() + ": <json>: line 2: a line of 1048577 bytes, over the limit of 1048576 "
+                                                  "bytes (1 MiB) for a line of a scene file");
+  }
+}
+
+TEST(SceneLimits, FileOverTheLimitIsRefusedBeforeReading) {
+  const auto p = temp_dir() / "huge.json";
+  write(p, "");
+  std::filesystem::resize_file(p, kMaxSceneFileBytes + 1);  // sparse: no disk, no time
+  const auto t0 = std::chrono::steady_clock::now();
+  const SceneError e = scene_error(p);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+  EXPECT_EQ(std::string(e.what()), p.string() + ": <file>: a file of 16777217 bytes, over the limit of 16777216 bytes "
+                                                "(16 MiB) for a scene file");
 }
 
 TEST(MeshFile, ReadsOffWithQuadsAndComments) {
