@@ -128,15 +128,22 @@ class Process {
   }
   const std::string& name() const { return name_; }
 
-  // Reads one line within the timeout; throws naming `what` was awaited.
-  std::string read_line(const std::string& what) {
+  // Reads one line of at most `max_bytes` within the timeout; throws naming `what` was awaited
+  // (and, for a longer line, `line_name` and `limit`: "its handshake", "a handshake").
+  std::string read_line(const std::string& what, std::size_t max_bytes, const std::string& line_name,
+                        const std::string& limit) {
+    std::size_t scanned = 0;  // the first `scanned` bytes of buffer_ hold no '\n'
     for (;;) {
-      const auto nl = buffer_.find('\n');
-      if (nl != std::string::npos) {
+      const auto nl = buffer_.find('\n', scanned);
+      if (nl != std::string::npos && nl <= max_bytes) {
         std::string line = buffer_.substr(0, nl);
         buffer_.erase(0, nl + 1);
         return line;
       }
+      if (nl != std::string::npos || buffer_.size() > max_bytes)
+        fail(fmt::format("{} is a line longer than {}, the limit for {}: {}", line_name, byte_count_text(max_bytes), limit,
+                         excerpt(buffer_)));
+      scanned = buffer_.size();
       pollfd p{from_, POLLIN, 0};
       const int r = ::poll(&p, 1, int(opt_.timeout.count()));
       if (r == 0)
@@ -241,10 +248,15 @@ void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::siz
   msg += "]}";
   const std::string what = fmt::format("frame {} ({} volume(s) for method '{}')", id, n, e.method);
   p.send(msg, what);
-  const std::string line = p.read_line(what);
+  const std::string line =
+      p.read_line(what, kMaxAnswerBytes + n * kMaxAnswerBytesPerVolume, "its answer to " + what,
+                  fmt::format("an answer about {} volume(s) ({} KiB and {} bytes a volume)", n, kMaxAnswerBytes >> 10,
+                              kMaxAnswerBytesPerVolume));
   json a;
   try {
-    a = json::parse(line);
+    a = parse_json_limited(line, kMaxProtocolDepth, "a protocol message");
+  } catch (const InputLimitError& limit) {
+    p.fail(fmt::format("answered {} with {}: {}", what, limit.what(), excerpt(line)));
   } catch (const std::exception&) {
     p.fail(fmt::format("answered {} with a line that is not JSON: {}", what, excerpt(line)));
   }
@@ -329,7 +341,7 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
   std::vector<std::string> handshakes;
   for (int i = 0; i < options.instances; ++i) {
     processes.push_back(std::make_shared<Process>(options));
-    handshakes.push_back(processes.back()->read_line("the handshake"));
+    handshakes.push_back(processes.back()->read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake"));
     if (handshakes.back() != handshakes[0])
       processes.back()->fail(fmt::format("copy {} of the program offered another handshake than the first: {}", i + 1,
                                          excerpt(handshakes.back())));
@@ -338,7 +350,9 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
   const std::string& line = handshakes[0];
   json h;
   try {
-    h = json::parse(line);
+    h = parse_json_limited(line, kMaxProtocolDepth, "a protocol message");
+  } catch (const InputLimitError& limit) {
+    process->fail(std::string("its handshake has ") + limit.what() + ": " + excerpt(line));
   } catch (const std::exception&) {
     process->fail("its handshake is not JSON: " + excerpt(line));
   }

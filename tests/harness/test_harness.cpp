@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 using namespace cullproof;
 using V = Visibility;
@@ -173,5 +174,27 @@ TEST(Campaign, SameSeedSameVerdictsAndCorpusDeduplicates) {
   EXPECT_EQ(changed[0].after, now);
   EXPECT_EQ(format_case(read_case_file(other->file), true), format_case(other->c, true)) << "only that entry changes";
   EXPECT_TRUE(rerecord_verdicts(dir, *find_builtin("pn-vertex-reverse")).empty());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Corpus, AFilePastTheCaseLimitsIsRefusedNamingIt) {
+  // Corpus files are case files: the same limits (case_io.hpp), the file named.
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-corpus-limits-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "pn-vertex" / "uniform");
+  const auto file = dir / "pn-vertex" / "uniform" / "false-reject-000000000000.json";
+  std::ofstream(file) << std::string(100000, '[');
+  auto refusal = [&] {
+    try {
+      load_corpus(dir);
+    } catch (const CaseError& e) {
+      EXPECT_EQ(e.file(), file.string());
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal(), file.string() + ":1: arrays and objects nested deeper than 64, the limit for one case");
+  std::filesystem::resize_file(file, kMaxCaseBytes + 1);
+  EXPECT_EQ(refusal(), file.string() + ": a file of 1048577 bytes, over the limit of 1048576 bytes (1 MiB) for a one-case file");
   std::filesystem::remove_all(dir);
 }

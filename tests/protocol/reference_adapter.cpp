@@ -2,7 +2,9 @@
 // page alone with a JSON library and nothing of cullproof: the n/p-vertex test (Assarsson &
 // Moller 2000, §3.1) on the planes of each frame, for AABBs. With a mode argument it plants one
 // protocol fault, for the protocol tests: crash, hang, wrong-count, garbage, bad-verdict,
-// out-of-order, bad-version, bad-ns; or the planted culling bug reject-touching (`<= 0` rejects),
+// out-of-order, bad-version, bad-ns, long-answer (16 MiB on one line), deep-answer (nested 100
+// deep), long-handshake (a 2 MiB description), deep-handshake; or the planted culling bug
+// reject-touching (`<= 0` rejects),
 // which the verifier must find through the protocol as it does in process. `published` declares
 // the method a text under test, `matrix` asks for matrix frusta only, `unstable` describes itself
 // differently in every process. It reports its own time.
@@ -38,6 +40,8 @@ int main(int argc, char** argv) {
                    {"origin", is("published") ? "published" : is("bad-origin") ? "own" : "user"},
                    {"description", is("unstable") ? "process " + std::to_string(::getpid()) : "the n/p-vertex test"},
                    {"frustum", is("matrix") ? "matrix" : "planes"}}}}};
+  if (is("long-handshake")) hello["methods"][0]["description"] = std::string(2 << 20, 'x');
+  if (is("deep-handshake")) hello["methods"][0]["more"] = json::parse(std::string(100, '[') + std::string(100, ']'));
   std::cout << hello.dump() << "\n" << std::flush;
   std::string line;
   long frames = 0;
@@ -50,6 +54,17 @@ int main(int argc, char** argv) {
       if (is("hang")) std::this_thread::sleep_for(std::chrono::hours(1));
       if (is("garbage")) {
         std::cout << "segfault? no, just text\n" << std::flush;
+        continue;
+      }
+      if (is("long-answer")) {  // far more verdicts than volumes, on one line
+        std::cout << "{\"frame\": " << m["frame"].get<long>() << ", \"verdicts\": [";
+        for (int i = 0; i < (16 << 20) / 11; ++i) std::cout << "\"outside\", ";
+        std::cout << "\"outside\"]}\n" << std::flush;
+        continue;
+      }
+      if (is("deep-answer")) {
+        std::cout << "{\"frame\": " << m["frame"].get<long>() << ", \"verdicts\": [\"outside\"], \"x\": "
+                  << std::string(100, '[') << std::string(100, ']') << "}\n" << std::flush;
         continue;
       }
     }

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -96,6 +97,37 @@ TEST(Protocol, AnUnknownVerdictIsStopped) { expect_fault("bad-verdict", "verdict
 TEST(Protocol, AnswersOutOfOrderAreStopped) { expect_fault("out-of-order", "answered frame 4 when frame 3"); }
 
 TEST(Protocol, ABadTimeIsStopped) { expect_fault("bad-ns", "with \"ns\" \"fast\", which is not a number"); }
+
+// Lines past the limits (external.hpp) are faults as soon as they pass them.
+TEST(Protocol, AnOverLongAnswerIsStoppedAtTheLimit) {
+  const auto t0 = std::chrono::steady_clock::now();
+  expect_fault("long-answer", "its answer to frame 3 (1 volume(s) for method 'reference-pn-vertex') is a line longer than "
+                              "65600 bytes, the limit for an answer about 1 volume(s) (64 KiB and 64 bytes a volume)");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10.0);
+}
+TEST(Protocol, ADeeplyNestedAnswerIsStopped) {
+  expect_fault("deep-answer", "answered frame 3 (1 volume(s) for method 'reference-pn-vertex') with arrays and objects "
+                              "nested deeper than 64, the limit for a protocol message");
+}
+
+void expect_refused_handshake(const std::string& mode, const std::string& words) {
+  try {
+    external_methods(adapter({mode}));
+    FAIL() << mode << ": accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("external program '" CULLPROOF_REFERENCE_ADAPTER " " + mode + "': " + words),
+              std::string::npos)
+        << e.what();
+  }
+}
+TEST(Protocol, AnOverLongHandshakeIsRefused) {
+  expect_refused_handshake("long-handshake",
+                           "its handshake is a line longer than 1048576 bytes (1 MiB), the limit for a handshake");
+}
+TEST(Protocol, ADeeplyNestedHandshakeIsRefused) {
+  expect_refused_handshake("deep-handshake",
+                           "its handshake has arrays and objects nested deeper than 64, the limit for a protocol message");
+}
 
 TEST(Protocol, AProgramsOwnTimeIsShownBesideTheMeasuredCost) {
   VerifyOptions o = small_run();
