@@ -11,6 +11,7 @@
 // Machine interface (keep stable): `methods --json` prints a JSON array of objects with at least
 // name, claim, source, volumes; `classify` prints one JSON object per case and line.
 #include "cullproof/case_io.hpp"
+#include "cullproof/cli_checks.hpp"
 #include "cullproof/methods.hpp"
 #ifdef CULLPROOF_HAVE_ORACLE
 #include "cullproof/campaign.hpp"
@@ -26,8 +27,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <type_traits>
 #include <variant>
 #include <iostream>
@@ -38,6 +41,15 @@ using namespace cullproof;
 using nlohmann::json;
 
 namespace {
+
+// Ranges of the numeric options: CLI11 refuses a value outside, naming the option and the range,
+// before anything runs (seed and index take any 64-bit unsigned value).
+/// Cases per distribution: a run keeps about 330 bytes a case, 3.3 GB at the limit (a hundred
+/// times the default).
+constexpr std::uint64_t kMaxCases = 10000000;
+constexpr int kMaxThreads = 1024;  ///< worker threads (0: all cores)
+constexpr int kMaxExternalTimeoutMs = 3600000;  ///< an hour for one answer of an external program
+constexpr std::uint64_t kMaxUnsigned = std::numeric_limits<std::uint64_t>::max();
 
 json volume_names(unsigned bits) {
   json a = json::array();
@@ -335,7 +347,7 @@ int main(int argc, char** argv) {
                     "repeatable, 'all': every method it offers); --method adds built-in ones beside it");
     cmd->add_option("--external-timeout", external_timeout, "Milliseconds to wait for each answer of the program")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, kMaxExternalTimeoutMs));
     cmd->add_option("--external-jobs", external_jobs,
                     "Copies of the program to run side by side, asked by whichever thread is free (stateful "
                     "methods always through the first)")
@@ -351,15 +363,22 @@ int main(int argc, char** argv) {
   bool no_corpus = false, no_progress = false;
   std::uint64_t index = 0;
   auto* verify_cmd = app.add_subcommand("verify", "The side-by-side verification run: every method and the oracle on generated cases");
-  verify_cmd->add_option("--cases", vopt.cases, "Cases per distribution")->capture_default_str();
-  verify_cmd->add_option("--seed", vopt.seed, "Seed: the same seed gives the same cases and verdicts")->capture_default_str();
+  verify_cmd->add_option("--cases", vopt.cases, "Cases per distribution")
+      ->capture_default_str()
+      ->check(cli::UnsignedRange(1, kMaxCases));
+  verify_cmd->add_option("--seed", vopt.seed, "Seed: the same seed gives the same cases and verdicts")
+      ->capture_default_str()
+      ->check(cli::UnsignedRange(0, kMaxUnsigned));
   verify_cmd->add_option("--distribution,-d", dists, "Distributions (repeatable; 'all', 'all-generic', 'all-hard')");
   verify_cmd->add_option("--method,-m", vopt.methods, "Methods (repeatable; default: all)");
-  verify_cmd->add_option("--threads", vopt.threads, "Worker threads (0: all cores)")->capture_default_str();
+  verify_cmd->add_option("--threads", vopt.threads, "Worker threads (0: all cores)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, kMaxThreads));
   verify_cmd->add_option("--corpus", corpus_dir, "Write new mismatches under DIR")->capture_default_str();
   verify_cmd->add_flag("--no-corpus", no_corpus, "Do not write the corpus");
   verify_cmd->add_option("--json", json_file, "Write the whole result as JSON to FILE");
-  auto* index_opt = verify_cmd->add_option("--index", index, "Run only case INDEX of each distribution (reproduce)");
+  auto* index_opt = verify_cmd->add_option("--index", index, "Run only case INDEX of each distribution (reproduce)")
+                        ->check(cli::UnsignedRange(0, kMaxUnsigned));
   external_options(verify_cmd);
   verify_cmd->add_flag("--no-progress", no_progress, "No progress bar");
 
