@@ -7,11 +7,13 @@
 // file and the line; nothing is repaired or dropped.
 #include "cullproof/scene.hpp"
 
+#include "cullproof/case_io.hpp"
+
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
+#include <system_error>
 
 namespace cullproof::sim {
 
@@ -56,11 +58,15 @@ bool parse_number(std::string_view s, T& v) {
 
 Mesh read_off(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw MeshError(name, 0, "cannot open the mesh file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  std::string text;
+  try {
+    text = read_file_limited(file, kMaxMeshFileBytes, "a mesh file");
+    check_line_lengths(text, kMaxMeshLineBytes, "a mesh file");
+  } catch (const InputLimitError& e) {
+    throw MeshError(name, e.line(), e.what());
+  } catch (const std::system_error& e) {
+    throw MeshError(name, 0, "cannot read the mesh file: " + e.code().message());
+  }
 
   Mesh mesh;
   std::size_t pos = 0;
@@ -96,7 +102,9 @@ Mesh read_off(const std::filesystem::path& file) {
       nf < 0)
     throw MeshError(name, line_no, "expected the counts 'vertices faces edges'");
   if (nv > (1ll << 31) || nf > (1ll << 31)) throw MeshError(name, line_no, "counts too large");
-  mesh.vertices.reserve(static_cast<std::size_t>(nv));
+  // A vertex line takes at least 6 bytes ("0 0 0\n"), a face line 8 ("3 0 1 2\n"): memory for more
+  // than the rest of the file can hold would be set aside for a file that is then found truncated.
+  mesh.vertices.reserve(std::min(static_cast<std::size_t>(nv), (text.size() - pos) / 6));
   for (long long i = 0; i < nv; ++i) {
     if (!next()) throw MeshError(name, line_no, "truncated: expected " + std::to_string(nv) + " vertices, found " + std::to_string(i));
     float c[3];
@@ -108,7 +116,7 @@ Mesh read_off(const std::filesystem::path& file) {
     }
     mesh.vertices.emplace_back(c[0], c[1], c[2]);
   }
-  mesh.triangles.reserve(static_cast<std::size_t>(nf));
+  mesh.triangles.reserve(std::min(static_cast<std::size_t>(nf), (text.size() - pos) / 8));
   for (long long f = 0; f < nf; ++f) {
     if (!next()) throw MeshError(name, line_no, "truncated: expected " + std::to_string(nf) + " faces, found " + std::to_string(f));
     long long k = 0;

@@ -75,10 +75,17 @@ struct Mesh {
   std::size_t polygons = 0;
 };
 
+/// Bytes of a mesh file (the shipped meshes are at most 2.6 MB); a regular file is refused by its
+/// size before it is read.
+inline constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t(256) << 20;  // 256 MiB
+/// Bytes of one line of a mesh file (a face of some 100,000 vertices).
+inline constexpr std::size_t kMaxMeshLineBytes = std::size_t(1) << 20;  // 1 MiB
+
 /// Reads an OFF file (optional "OFF" header, '#' comments, vertex count, face count, edge count,
 /// vertices, faces "k i0 .. ik-1" with optional colour). Throws MeshError naming file and line
-/// for a missing file, bad counts, a non-finite coordinate, an index out of range, a face with
-/// fewer than 3 vertices, or a truncated file.
+/// for a missing file, a file or line past the limits above, bad counts, a non-finite coordinate,
+/// an index out of range, a face with fewer than 3 vertices, or a truncated file (also when the
+/// counts promise more than the file can hold: memory is set aside for what it can).
 Mesh read_off(const std::filesystem::path& file);
 
 /// Where meshes are looked up: $CULLPROOF_MESH_DIR, else ${XDG_CACHE_HOME:-$HOME/.cache}/

@@ -239,6 +239,31 @@ TEST(MeshFile, BadMeshesNameFileAndLine) {
   }
 }
 
+TEST(MeshFile, LimitsNameFileAndLine) {
+  auto refusal = [](const std::filesystem::path& p) {
+    try {
+      read_off(p);
+    } catch (const MeshError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // Counts that promise more than the file holds: memory is set aside only for what it can (the
+  // old reservation for 2^31 faces, 25 GB, threw std::bad_alloc on a machine of 23 GB).
+  const auto lying = temp_dir() / "lying.off";
+  write(lying, "OFF\n3 2147483648 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(refusal(lying), lying.string() + ":6: truncated: expected 2147483648 faces, found 1");
+  const auto long_line = temp_dir() / "long-line.off";
+  write(long_line, "OFF\n#" + std::string(kMaxMeshLineBytes, ' ') + "\n3 1 0\n");
+  EXPECT_EQ(refusal(long_line), long_line.string() + ":2: a line of 1048577 bytes, over the limit of 1048576 bytes (1 MiB) "
+                                                     "for a line of a mesh file");
+  const auto huge = temp_dir() / "huge.off";
+  write(huge, "");
+  std::filesystem::resize_file(huge, kMaxMeshFileBytes + 1);  // sparse: no disk, no time
+  EXPECT_EQ(refusal(huge), huge.string() + ": a file of 268435457 bytes, over the limit of 268435456 bytes (256 MiB) "
+                                           "for a mesh file");
+}
+
 TEST(MeshFile, MissingMeshNamesTheFixCommand) {
   SceneDesc s = parse_scene(valid_scene(), "scene.json");
   try {
