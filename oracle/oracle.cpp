@@ -1,5 +1,5 @@
-// The exact oracle (issue 3): interval filter, exact LP/QP route, checked certificates and
-// exact distances. Semantics are shared/CONVENTIONS.md "Ground truth"; contracts are in
+// The exact oracle: interval filter, exact LP/QP route, checked certificates and
+// exact distances. Semantics are docs/semantics.md "The truth"; contracts are in
 // cullproof/oracle.hpp.
 //
 // Sources:

@@ -1,6 +1,6 @@
-// cullproof::oracle — exact ground truth for frustum culling (issue 3).
+// cullproof::oracle — exact ground truth for frustum culling.
 //
-// Truth is shared/CONVENTIONS.md "Ground truth": outside when B ∩ F is empty, inside when
+// Truth is docs/semantics.md "The truth": outside when B ∩ F is empty, inside when
 // B ⊆ F, intersecting otherwise, for closed B and F, computed exactly from the float values.
 // A matrix case is classified end to end: F is the Gribb–Hartmann extraction from the float
 // matrix entries with rows added in exact arithmetic, never the float-rounded planes.

@@ -2,7 +2,7 @@
 // (instances of real meshes turned into a bounding-volume hierarchy), camera paths and
 // projections. The simulator (simulate.hpp) runs the cullers over a scene frame by frame.
 //
-// A scene declares, and the simulator simulates, only what it declares (issue 8): models (real
+// A scene declares, and the simulator simulates, only what it declares: models (real
 // meshes read from disk and a procedural floor), layouts (grid, row, scatter, single), the
 // hierarchy's target size, the projection (perspective, off-axis, stereo pair, orthographic;
 // a zoom only when declared), the camera path (keyframes, or one of the four path kinds of

@@ -1,7 +1,7 @@
 // Naive 8-corner per-plane counting test for AABBs.
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", section "Geometric Approach - Testing
-// Boxes", FrustumG::boxInFrustum (shared/seeds/003).
+// Boxes", FrustumG::boxInFrustum.
 // Claim: conservative. A box is rejected only when all eight corners are on the wrong side of
 // one plane (then the whole box is: a half-space is convex). A box outside the frustum but
 // not outside any single plane is reported intersecting (the text's "orange box").

@@ -4,7 +4,7 @@
 // bounding volume ... bounded by a minimal AABB ... testing two AABBs against each other, which
 // can be done with only six comparisons after the transformation has been done"; §4: Table 1's
 // speedups are relative to this culler [DirectModel 1.0 Specification, HP 1998]
-// (shared/seeds/000). The DirectModel source is not public; this is the procedure as the paper
+//. The DirectModel source is not public; this is the procedure as the paper
 // describes it: 8 corners times the clip matrix (72+ multiplications), division by w, the NDC
 // AABB of the 8 results, and the six comparisons with the NDC cube ([-1,1]^3, or depth [0,1]
 // for zero_to_one / reversed-Z, whose cube is the same set).

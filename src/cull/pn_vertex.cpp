@@ -1,7 +1,7 @@
 // n/p-vertex test for AABBs with per-box sign selection.
 //
 // Source: U. Assarsson, T. Möller, "Optimized View Frustum Culling Algorithms for Bounding
-// Boxes", JGT 2000, §3.1 "Basic Intersection Test", figure 4 (shared/seeds/000); the same test
+// Boxes", JGT 2000, §3.1 "Basic Intersection Test", figure 4; the same test
 // is Lighthouse3D "Geometric Approach - Testing Boxes II".
 // Sign translation: A&M call x outside plane i when n_i.x + d_i > 0 (normals point out). With
 // CONVENTIONS (inside when dot(n, x) + d >= 0, normals in) their n-vertex ("negative far

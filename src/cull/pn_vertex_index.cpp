@@ -1,7 +1,7 @@
 // p-vertex selection with the branch-free min/max index trick.
 //
 // Source: blog post "View frustum culling (AABB vs Frustum)", section "Implementation",
-// intersectFrustumAABB (shared/seeds/001).
+// intersectFrustumAABB.
 // Two functions:
 //  - p_vertex_post: as published. box[] = {min, max}, index = (int)(a > 0), only the p-vertex
 //    is tested and `dp < -p.d` rejects. The post's test is two-way (intersects or not): it

@@ -2,7 +2,7 @@
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", sections "Radar Approach - Testing
 // Points", "Testing Points II", "Implementation", "Testing Spheres" and "Implementation II"
-// (shared/seeds/003), after F. Puig Placeres, "Improved Frustum Culling", Game Programming
+//, after F. Puig Placeres, "Improved Frustum Culling", Game Programming
 // Gems 5.
 // Claims: radar-point exact (the radar region is the frustum of the camera); radar-sphere
 // conservative (it is the per-plane sphere test written in camera coordinates: the sphere

@@ -1,7 +1,7 @@
 // Sphere plane test on normalised planes.
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", section "Geometric Approach - Testing
-// Points and Spheres", FrustumG::sphereInFrustum (shared/seeds/003); A&M 2000 §5 mention the
+// Points and Spheres", FrustumG::sphereInFrustum; A&M 2000 §5 mention the
 // same test.
 // Claim: conservative. Outside is only returned when the sphere is outside one plane, inside
 // when it is inside every plane; near an edge or corner of the frustum a sphere outside all of

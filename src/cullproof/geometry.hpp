@@ -1,6 +1,6 @@
 // cullproof geometry core: the shapes every culler, the oracle and the corpus speak.
 //
-// Semantics are fixed by shared/CONVENTIONS.md:
+// Semantics are fixed by docs/semantics.md:
 //  - a point x is inside plane (n, d) when dot(n, x) + d >= 0; normals point into the frustum;
 //  - a frustum is six planes, left, right, bottom, top, near, far, each a *closed* half-space;
 //  - n == 0 with d > 0 is "all space" (infinite far plane), n == 0 with d < 0 is "nothing".

@@ -1,4 +1,4 @@
-// The oracle against its independent second method (issue 3, item 5): zero disagreements over
+// The oracle against its independent second method: zero disagreements over
 // generated touching, containment, degenerate and matrix cases. Each case is also classified by
 // the exact route alone (no filter), which must agree with the filtered answer, and the
 // distance must be consistent with the truth.
