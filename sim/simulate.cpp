@@ -4,7 +4,7 @@
 // path, every configuration culls every view of the frame with the state it kept from earlier
 // frames. Verification: each configuration's visible set implies a verdict for every leaf
 // (culled: outside; reported: inside or intersecting); the oracle's exact truth for the leaf's
-// box against the frame's float planes (CONVENTIONS "Ground truth") classifies it (campaign.hpp
+// box against the frame's float planes (docs/semantics.md "The truth") classifies it (campaign.hpp
 // error_class). Checked leaves: all of them with --exhaustive, else `samples` random leaves per
 // frame and view plus every leaf on which two configurations disagree. The perspective-transform
 // baseline works on the clip matrix: a leaf it gets "wrong" against the float planes is judged

@@ -61,7 +61,7 @@ enum class DistanceKind : std::uint8_t { euclidean, margin, clearance, none };
 
 /// The oracle's answer for one case.
 struct Result {
-  Visibility truth = Visibility::outside;  ///< exact truth (CONVENTIONS "Ground truth")
+  Visibility truth = Visibility::outside;  ///< exact truth (docs/semantics.md "The truth")
   double distance = 0.0;                   ///< see DistanceKind; NaN when not requested
   DistanceKind distance_kind = DistanceKind::none;  ///< what `distance` measures
   /// The checked certificate. {"kind":"point","point":["p/q",..],"point_approx":[..]} for

@@ -6,7 +6,7 @@
 //  - np_test          = the per-plane n/p-vertex test of pn_vertex.cpp / bvh_traverse.cpp
 //                       (A&M 2000 §3.1; value < 0 at the p-vertex: outside; at the n-vertex:
 //                       intersecting), evaluated ((nx*x + ny*y) + nz*z) + d;
-//  - basic_np         = pn_vertex (planes in CONVENTIONS order);
+//  - basic_np         = pn_vertex (planes in the plane order of docs/semantics.md);
 //  - plane_coherency  = plane_coherency_test (cached plane first, then left, right, near, far,
 //                       top, bottom);
 //  - octant_pc        = OctantCuller::classify_corrected (A&M §3.3 with fig. 6's precondition;
@@ -53,7 +53,7 @@ inline Visibility from_code(bool outside, bool intersect) noexcept {
   return outside ? Visibility::outside : intersect ? Visibility::intersecting : Visibility::inside;
 }
 
-/// Six planes, CONVENTIONS order, early exit on the first rejecting plane.
+/// Six planes, the plane order of docs/semantics.md, early exit on the first rejecting plane.
 inline Visibility basic_np(const SelPlane (&p)[6], const Aabb& box, std::uint64_t& tests) noexcept {
   const float* b = box_floats(box);
   bool intersect = false;

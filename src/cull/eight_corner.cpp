@@ -7,7 +7,7 @@
 // not outside any single plane is reported intersecting (the text's "orange box").
 // Touching: a corner with distance exactly 0 counts as `in` (the text tests `< 0` for out), so
 // a box touching a plane from outside has an `in` corner and is intersecting; a box touching
-// from inside has no `out` corner and is inside. Both agree with CONVENTIONS.
+// from inside has no `out` corner and is inside. Both agree with docs/semantics.md.
 // Corner k: bit 0 selects max.x, bit 1 max.y, bit 2 max.z. The early exit of the inner loop
 // (stop once both counts are non-zero) is kept as published.
 #include "cullproof/cull.hpp"

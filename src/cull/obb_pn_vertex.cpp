@@ -10,7 +10,7 @@
 // Claim: conservative (in exact arithmetic the p-vertex is the farthest point of the
 // parallelepiped along n, so rejection is exact per plane); in float the corners are rounded,
 // so errors only within rounding distance of the boundary.
-// Touching: p-vertex value == 0 is intersecting, n-vertex value == 0 is inside, as CONVENTIONS.
+// Touching: p-vertex value == 0 is intersecting, n-vertex value == 0 is inside, as docs/semantics.md.
 #include "cullproof/cull.hpp"
 
 namespace cullproof {

@@ -31,7 +31,7 @@
 // corpus/perspective-transform/). cullproof keeps it as Table 1's baseline and measures it.
 // Touching (both): rejections are strict (`hi.x < -1`, `w + x < 0`), acceptance is `>=`/`<=`,
 // so a box touching a plane from outside is intersecting and one touching from inside is
-// inside, as CONVENTIONS.
+// inside, as docs/semantics.md.
 #include "cullproof/cull.hpp"
 
 #include <algorithm>
@@ -153,7 +153,7 @@ std::optional<glm::mat4> clip_matrix_from_frustum(const Frustum& f) {
     for (int col = 0; col < 4; ++col) out[col][row] = static_cast<float>(rows[row][col]);
   if (f[kFar].is_degenerate()) {
     // Infinite far plane: make r4 - r3 come out with an exactly zero normal in float, as
-    // CONVENTIONS requires ("contains all space"), keeping its offset positive.
+    // docs/semantics.md requires ("contains all space"), keeping its offset positive.
     for (int col = 0; col < 3; ++col) out[col][2] = out[col][3];
     out[3][2] = static_cast<float>(r4.w - s[4] * p[kFar].w);
   }

@@ -9,7 +9,7 @@
 // factor 1/cos(alpha) turns the distance to a side plane into a distance along y or x); the
 // as-published sphere variant: none (it tests a wider frustum, see below).
 // Touching: every rejection is a strict `>`/`<` against the bound, so a point on the boundary
-// is inside and a sphere touching a plane from outside is intersecting, as CONVENTIONS.
+// is inside and a sphere touching a plane from outside is intersecting, as docs/semantics.md.
 //
 // Text errors found, and how they are handled:
 //  1. "Implementation II" setCamInternals computes `tang = tan(angle)` and

@@ -8,7 +8,7 @@
 // it but not outside any single plane is reported intersecting (a false intersect).
 // Touching: `distance < -radius` rejects, so a sphere touching a plane from outside
 // (distance == -radius) is intersecting; `distance < radius` makes one touching from inside
-// (distance == radius) inside. Both agree with CONVENTIONS.
+// (distance == radius) inside. Both agree with docs/semantics.md.
 // Addition to the text: a degenerate plane (n == 0, the far plane of an infinite projection)
 // cannot be normalised; it is skipped when d >= 0 (all space) and rejects when d < 0 (nothing).
 // The text would divide by a zero length.

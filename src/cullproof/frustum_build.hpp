@@ -36,7 +36,7 @@ struct DepthConvention {
 glm::vec4 matrix_row(const glm::mat4& m, int i) noexcept;
 
 /// Gribb–Hartmann extraction in float from clip = m * x. With r1..r4 the rows: left r4+r1,
-/// right r4-r1, bottom r4+r2, top r4-r2; depth per `depth` (CONVENTIONS "Matrices"): near r4+r3
+/// right r4-r1, bottom r4+r2, top r4-r2; depth per `depth` (docs/semantics.md "Frusta from matrices"): near r4+r3
 /// or r3, far r4-r3; reversed-Z swaps the near and far roles. An infinite far plane comes out as
 /// n == 0, d > 0 ("contains all space"), never NaN. Planes are not normalised.
 /// Passing P*V gives world-space planes; passing P*V*M gives planes in M's local space.

@@ -1,4 +1,4 @@
-// Every method's claim (CONVENTIONS "Claims"), checked as stated against the exact oracle, on
+// Every method's claim (docs/semantics.md "Claims"), checked as stated against the exact oracle, on
 // every distribution: certified claims with no exception, conservative/exact claims with errors
 // allowed only within the method's documented tolerance (the oracle's exact distance decides).
 // A published method whose claim the corpus already refutes is reported, not failed: its
