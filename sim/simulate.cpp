@@ -17,6 +17,7 @@
 #include "cullproof/case_io.hpp"
 #include "cullproof/oracle.hpp"
 #include "engine.hpp"
+#include "splitmix.hpp"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -71,16 +72,6 @@ std::uint64_t SimResult::forbidden_errors() const noexcept {
 }
 
 namespace {
-
-struct Rng {
-  std::uint64_t s;
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-};
 
 double now_ns() {
   return static_cast<double>(
@@ -295,7 +286,7 @@ SimResult simulate(const SceneDesc& scene_in, World& world, const SimulateOption
         for (std::uint32_t k = 0; k < L; ++k) cand[k] = k;
       } else {
         std::set<std::uint32_t> s;
-        Rng rng{opt.seed * 1000003ull + static_cast<std::uint64_t>(f) * 7919ull + static_cast<std::uint64_t>(v)};
+        SplitMix64 rng{opt.seed * 1000003ull + static_cast<std::uint64_t>(f) * 7919ull + static_cast<std::uint64_t>(v)};
         for (int k = 0; k < opt.samples && L > 0; ++k) s.insert(static_cast<std::uint32_t>(rng.next() % L));
         for (std::uint32_t k = 0; k < L; ++k)
           for (std::size_t ci = 1; ci < r.configs.size(); ++ci)

@@ -10,6 +10,7 @@
 // 1274 graph nodes) is met by choosing L. Node boxes are exact float min/max of their children
 // (leaves: of their triangles' float world vertices), so a node encloses its subtree exactly.
 #include "cullproof/scene.hpp"
+#include "splitmix.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,19 +24,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// splitmix64: a fixed, portable generator (std distributions differ between libraries).
-struct Rng {
-  std::uint64_t s;
-  explicit Rng(std::uint64_t seed) : s(seed * 0x9E3779B97F4A7C15ull + 0x1234567ull) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1p-53; }
-  int range(int lo, int hi) { return lo + static_cast<int>(uniform() * (hi - lo + 1)); }
-};
+// The world's and the camera path's generator, from the scene's seed.
+SplitMix64 world_rng(std::uint64_t seed) { return SplitMix64{seed * 0x9E3779B97F4A7C15ull + 0x1234567ull}; }
 
 glm::dmat3 rot_y(double deg) {
   const double a = deg * kPi / 180.0, c = std::cos(a), s = std::sin(a);
@@ -47,17 +37,6 @@ glm::dmat3 rot_x(double deg) {
   return glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, c, s), glm::dvec3(0, -s, c));
 }
 glm::dmat3 orient(double yaw, double pitch) { return rot_y(yaw) * rot_x(pitch); }
-
-float round_down(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-float round_up(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  return f;
-}
 
 Aabb empty_box() {
   const float inf = std::numeric_limits<float>::infinity();
@@ -223,7 +202,7 @@ World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir)
   }
   for (std::size_t gi = 0; gi < scene.groups.size(); ++gi) {
     const InstanceGroup& g = scene.groups[gi];
-    Rng rng(g.seed);
+    SplitMix64 rng = world_rng(g.seed);
     for (int i = 0; i < g.count; ++i) {
       Placed p;
       p.inst.group = static_cast<int>(gi);
@@ -395,8 +374,8 @@ Aabb transform_box(const Aabb& b, const glm::dmat3& r, const glm::dvec3& t) {
     hi = glm::max(hi, p);
   }
   // Rounded outward: the float box contains the double-precision image of the model-space box.
-  return Aabb{glm::vec3(round_down(lo.x), round_down(lo.y), round_down(lo.z)),
-              glm::vec3(round_up(hi.x), round_up(hi.y), round_up(hi.z))};
+  return Aabb{glm::vec3(float_at_most(lo.x), float_at_most(lo.y), float_at_most(lo.z)),
+              glm::vec3(float_at_least(hi.x), float_at_least(hi.y), float_at_least(hi.z))};
 }
 
 bool same(const Aabb& a, const Aabb& b) {
@@ -477,7 +456,7 @@ std::vector<CameraFrame> camera_path(const SceneDesc& scene, const World& world)
 
   std::vector<CameraFrame> out;
   out.reserve(static_cast<std::size_t>(n));
-  Rng rng(d.seed);
+  SplitMix64 rng = world_rng(d.seed);
   glm::dvec3 eye = d.eye;
   double yaw = d.yaw_deg, pitch = d.pitch_deg;
   glm::dmat3 R = orient(yaw, pitch);

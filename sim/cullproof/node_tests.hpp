@@ -19,35 +19,14 @@
 #pragma once
 
 #include "cullproof/geometry.hpp"
+#include "cullproof/plane_select.hpp"
 
 #include <cstdint>
 
 namespace cullproof::sim {
 
-/// A plane with its p-vertex selection hoisted (indices into the box's six floats).
-struct SelPlane {
-  float nx = 0, ny = 0, nz = 0, d = 0;
-  int px = 0, py = 1, pz = 2, qx = 3, qy = 4, qz = 5;
-};
-
-inline SelPlane select_plane(const Plane& pl) noexcept {
-  SelPlane s;
-  s.nx = pl.n.x; s.ny = pl.n.y; s.nz = pl.n.z; s.d = pl.d;
-  s.px = pl.n.x > 0.0f ? 3 : 0; s.qx = 3 - s.px;
-  s.py = pl.n.y > 0.0f ? 4 : 1; s.qy = 5 - s.py;
-  s.pz = pl.n.z > 0.0f ? 5 : 2; s.qz = 7 - s.pz;
-  return s;
-}
-
-inline const float* box_floats(const Aabb& b) noexcept { return &b.min.x; }
-
-/// 0: outside the plane, 1: straddling, 2: inside.
-inline int np_test(const SelPlane& s, const float* b) noexcept {
-  const float pv = ((s.nx * b[s.px] + s.ny * b[s.py]) + s.nz * b[s.pz]) + s.d;
-  if (pv < 0.0f) return 0;
-  const float nv = ((s.nx * b[s.qx] + s.ny * b[s.qy]) + s.nz * b[s.qz]) + s.d;
-  return nv < 0.0f ? 1 : 2;
-}
+using SelPlane = SelectedPlane;
+inline int np_test(const SelPlane& s, const float* b) noexcept { return test_selected_plane(s, b); }
 
 inline Visibility from_code(bool outside, bool intersect) noexcept {
   return outside ? Visibility::outside : intersect ? Visibility::intersecting : Visibility::inside;

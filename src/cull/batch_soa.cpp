@@ -25,6 +25,7 @@
 #include "batch_util-inl.h"
 
 #include "cullproof/cull_batch.hpp"
+#include "cullproof/plane_select.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -167,13 +168,11 @@ using batch_detail::SelPlane;
 
 void select_planes(const Frustum& f, const AabbSoa& b, SelPlane (&out)[6]) {
   for (int k = 0; k < 6; ++k) {
-    const Plane& p = f[k];
-    SelPlane& s = out[k];
-    s.nx = p.n.x; s.ny = p.n.y; s.nz = p.n.z; s.d = p.d;
-    // Hoisted per plane: the p-vertex reads max where the normal component is > 0 (pn_vertex).
-    s.px = p.n.x > 0.0f ? b.max_x : b.min_x; s.qx = p.n.x > 0.0f ? b.min_x : b.max_x;
-    s.py = p.n.y > 0.0f ? b.max_y : b.min_y; s.qy = p.n.y > 0.0f ? b.min_y : b.max_y;
-    s.pz = p.n.z > 0.0f ? b.max_z : b.min_z; s.qz = p.n.z > 0.0f ? b.min_z : b.max_z;
+    // The arrays in select_plane's order of a box's six floats.
+    const float* arrays[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
+    const SelectedPlane sel = select_plane(f[k]);
+    out[k] = SelPlane{sel.nx, sel.ny, sel.nz, sel.d, arrays[sel.px], arrays[sel.py], arrays[sel.pz],
+                      arrays[sel.qx], arrays[sel.qy], arrays[sel.qz]};
   }
 }
 
