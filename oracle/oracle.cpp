@@ -150,7 +150,7 @@ Visibility truth(const CaseFrustum& f, const Volume& v) {
   return classify(f, v, o).truth;
 }
 
-const char* to_string(DistanceKind k) noexcept {
+std::string_view to_string(DistanceKind k) noexcept {
   switch (k) {
     case DistanceKind::euclidean: return "euclidean";
     case DistanceKind::margin: return "margin";

@@ -34,7 +34,7 @@ namespace cullproof::sim {
 
 using nlohmann::json;
 
-const char* to_string(Config c) noexcept {
+std::string_view to_string(Config c) noexcept {
   switch (c) {
     case Config::perspective_transform: return "perspective-transform";
     case Config::basic_np: return "basic-np";
@@ -126,7 +126,7 @@ std::vector<Optimisation> decide_optimisations(const SceneDesc& scene, const Wor
     }
   }
   const int views = static_cast<int>(path.size()) * (scene.projection.kind == ProjectionKind::stereo ? 2 : 1);
-  const std::string proj = to_string(scene.projection.kind);
+  const std::string proj(to_string(scene.projection.kind));
   if (refused == 0)
     out.push_back({"octant", "enabled", "every projection of the path is bounded and symmetric (" + proj + "; decided once per projection, verdicts checked every frame)"});
   else

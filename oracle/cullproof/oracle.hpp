@@ -29,6 +29,7 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <string_view>
 
 namespace cullproof::oracle {
 
@@ -96,7 +97,7 @@ Visibility truth(const CaseFrustum& f, const Volume& v);
 /// "filtered": bool, "witness": {...}}.
 nlohmann::json to_json(const Result& r);
 /// "euclidean", "margin", "clearance" or "none".
-const char* to_string(DistanceKind k) noexcept;
+std::string_view to_string(DistanceKind k) noexcept;
 
 /// The independent exact method, used only to cross-check classify: exact rationals/integers,
 /// vertex enumeration of {t ∈ [-1,1]^3 : plane_j(c + Σ t_i e_i) ≥ 0} for boxes and points,

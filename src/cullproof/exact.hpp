@@ -6,6 +6,7 @@
 
 #include <array>
 #include <optional>
+#include <string_view>
 
 namespace cullproof {
 
@@ -19,7 +20,7 @@ enum class HoffStage : std::uint8_t {
   final_reject,    ///< nothing found: rejected
 };
 /// "trivial-reject", "trivial-accept", "edge-face", "containment", "box-edge-face", "final-reject".
-const char* to_string(HoffStage s) noexcept;
+std::string_view to_string(HoffStage s) noexcept;
 
 /// A bounded frustum as a polyhedron: its eight corners (frustum_corners order: bit 0 right,
 /// bit 1 top, bit 2 far) in float, as a float culler holds them.

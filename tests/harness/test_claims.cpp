@@ -57,7 +57,7 @@ TEST_P(Claims, HoldAgainstTheOracle) {
         continue;
       }
       RC_FAIL(m.name + " (claim " + std::string(to_string(m.claim)) + ") says " + std::string(to_string(*v)) +
-              ", truth " + std::string(to_string(truth)) + " (" + to_string(cls) + "), exact distance " +
+              ", truth " + std::string(to_string(truth)) + " (" + std::string(to_string(cls)) + "), exact distance " +
               std::to_string(r.distance) + ", backward distance " + std::to_string(dist) + ", tolerance " + std::to_string(m.tolerance * scale));
     }
   });
