@@ -19,8 +19,9 @@
 namespace cullproof::gen {
 
 /// Named case distributions. uniform .. degenerate, contact and camera_path are the generic ones
-/// (the campaign's default); touch .. rod are the hard-case families, reported together as
-/// "all-hard".
+/// (the campaign's default); touch .. rod, huge and subnormal are the hard-case families,
+/// reported together as "all-hard". New distributions are added at the end: a case's stream is
+/// keyed on the distribution's value, so the cases of the others stay the same.
 enum class Distribution {
   uniform,            ///< volumes of all sizes anywhere around the frustum
   near_boundary,      ///< within a few box sizes of a frustum face
@@ -38,6 +39,8 @@ enum class Distribution {
   rod,                ///< long thin boxes crossing the frustum with no corner inside
   camera_path,        ///< a camera moving past fixed volumes, frame by frame (see CameraPath)
   contact,            ///< float-exact (see float_exact) contact with faces, edges and corners, every frustum kind
+  huge,               ///< values up to FLT_MAX: max - min, n.x + d, centres and row sums overflow
+  subnormal,          ///< subnormal sizes, distances, coefficients and entries: products underflow
 };
 
 /// Stable kebab-case name ("near-boundary", "far-offset", ...).
