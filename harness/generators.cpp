@@ -879,6 +879,16 @@ void scale_plane_to(Plane& p, int target) {
   }
 }
 
+// Plane p times 2^j so that its largest normal component has exponent `target`, or less where
+// d would overflow (the same half-space, exact while nothing goes subnormal).
+void scale_normal_to(Plane& p, int target) {
+  if (p.is_degenerate()) return;
+  const float n = std::max({std::abs(p.n.x), std::abs(p.n.y), std::abs(p.n.z)});
+  int j = target - std::ilogb(n);
+  if (p.d != 0.0f) j = std::min(j, 127 - std::ilogb(p.d));
+  p = Plane{times2(p.n, j), times2(p.d, j)};
+}
+
 // A matrix case's entries times 2^j so that the largest has exponent `target` (clip coordinates
 // scaled by 2^j: the same frustum); the planes are extracted again.
 void scale_matrix_to(GenCase& g, int target) {
@@ -906,11 +916,15 @@ Volume huge_volume(const Placement& p) {
     Aabb b;
     for (int a = 0; a < 3; ++a) {
       double lo = at[a] - p.size * in(0, 1), hi = at[a] + p.size * in(0, 1);
-      switch (pick(4)) {
+      const double side = coin(50) ? 1.0 : -1.0;
+      switch (pick(5)) {
         case 0: lo = -far_out(), hi = far_out(); break;  // across the whole range on this axis
         case 1: hi = far_out(); break;                   // from about the frustum up
         case 2: lo = -far_out(); break;                  // from about the frustum down
-        default: break;                                  // about the frustum
+        case 3:                                          // far out on one side: min + max overflows
+          lo = side * double(kFltMax) * in(0.5, 0.9), hi = side * double(kFltMax) * in(0.9, 1.0);
+          break;
+        default: break;  // about the frustum
       }
       b.min[a] = clamp_float(lo), b.max[a] = clamp_float(hi);
       if (b.min[a] > b.max[a]) std::swap(b.min[a], b.max[a]);
@@ -946,16 +960,21 @@ GenCase huge_case() {
   Camera cam = generic_camera();
   const int kind = pick(100);
   if (kind >= 60 && kind < 80) cam.as_matrix = false;
-  if (kind >= 80) cam.as_matrix = true;
+  if (kind >= 80) {
+    cam.as_matrix = true;
+    // Half the time a camera far from the origin, so that the matrix's translation column (whose
+    // rows are about the same size) is what reaches FLT_MAX.
+    if (coin(50)) cam.eye = glm::vec3(unit_vector() * log_in(3, 6));
+  }
   const Placement p = placement_for(cam);
   GenCase g = make(cam, p, around(p));
   if (kind < 35) {
-    // The scene carried to the top of the range: its largest coordinate at 2^100 .. 2^127; half
-    // the time the planes (or the matrix) scaled up to FLT_MAX as well, so that n.x overflows.
+    // The scene carried to the top of the range: its largest coordinate at 2^118 .. 2^127; three
+    // times in four the planes (or the matrix) scaled up to FLT_MAX as well, so that n.x overflows.
     double length = volume_magnitude(g.volume);
     for (const auto& c : p.corner) length = std::max({length, std::abs(c.x), std::abs(c.y), std::abs(c.z)});
-    scale_to(g, length, *rc::gen::inRange(100, 128));
-    if (coin(50)) {
+    scale_to(g, length, *rc::gen::inRange(118, 128));
+    if (coin(75)) {
       if (g.frustum.matrix) scale_matrix_to(g, *rc::gen::inRange(120, 128));
       else
         for (Plane& pl : g.frustum.planes.planes) scale_plane_to(pl, *rc::gen::inRange(110, 128));
@@ -969,12 +988,12 @@ GenCase huge_case() {
     // keeps the half-space exactly; another factor rounds every coefficient.
     for (Plane& pl : g.frustum.planes.planes) {
       if (coin(50)) {
-        scale_plane_to(pl, *rc::gen::inRange(110, 128));
+        scale_normal_to(pl, *rc::gen::inRange(116, 128));
         continue;
       }
       const double big = std::max({std::abs(pl.n.x), std::abs(pl.n.y), std::abs(pl.n.z), std::abs(pl.d)});
       if (big == 0.0) continue;
-      const double factor = double(kFltMax) * log_in(-5, 0) / big;
+      const double factor = double(kFltMax) * log_in(-2, 0) / big;
       Plane q{glm::vec3(glm::dvec3(pl.n) * factor), float(double(pl.d) * factor)};
       if (!q.is_degenerate() || pl.is_degenerate()) pl = q;
     }
@@ -982,7 +1001,22 @@ GenCase huge_case() {
     // A clip matrix whose entries reach FLT_MAX (every depth convention, reversed-Z, infinite far):
     // the Gribb-Hartmann row sums overflow float.
     scale_to(g, p.size, *rc::gen::inRange(0, 100));
-    scale_matrix_to(g, 127);
+    if (coin(50)) {
+      scale_matrix_to(g, 127);
+    } else {
+      // The largest entry at 0.8 .. 1 FLT_MAX: a factor that is not a power of two rounds every
+      // entry (a frustum a rounding away), and brings more pairs of entries past FLT_MAX.
+      glm::mat4 m = *g.frustum.matrix;
+      double big = 0.0;
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) big = std::max(big, double(std::abs(m[c][r])));
+      if (big > 0.0) {
+        const double factor = double(kFltMax) * in(0.8, 1.0) / big;
+        for (int c = 0; c < 4; ++c)
+          for (int r = 0; r < 4; ++r) m[c][r] = clamp_float(double(m[c][r]) * factor);
+        g.frustum = frustum_spec(m, g.frustum.depth);
+      }
+    }
   }
   return g;
 }
