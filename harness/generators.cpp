@@ -80,6 +80,13 @@ std::vector<Distribution> hard_distributions() {
           Distribution::subnormal};
 }
 
+std::vector<Distribution> no_overflow_distributions() {
+  std::vector<Distribution> out;
+  for (const Info& i : kInfo)
+    if (i.d != Distribution::huge) out.push_back(i.d);
+  return out;
+}
+
 std::vector<Distribution> parse_distributions(std::string_view name) {
   if (name == "all") {
     std::vector<Distribution> all;
