@@ -97,16 +97,21 @@ DPlanes double_planes(const CaseFrustum& f) {
 
 // mu = max over t in [-1,1]^3 of min_j (s_j(c) + sum_i t_i g_ji), by enumerating the vertices of
 // the LP in (t, mu): every choice of 4 active constraints among the planes and the 6 bounds.
+// The LP is solved in units of the box's size L (its longest half-edge; 1 for a point), so that
+// its determinants are about 1 whatever the scale: a box of 1e-40 or of 1e38 is the same problem.
 double max_min_depth(const std::vector<glm::dvec4>& planes, const glm::dvec3& c, const glm::dvec3 (&e)[3]) {
   struct Row {
     double a[4];
-    double b;  // a . (t, mu) >= b
+    double b;  // a . (t, mu / L) >= b
   };
+  double size = std::max({glm::length(e[0]), glm::length(e[1]), glm::length(e[2])});
+  if (!(size > 0.0) || !std::isfinite(size)) size = 1.0;
   std::vector<Row> rows;
   for (const glm::dvec4& q : planes) {
     const glm::dvec3 n(q);
-    // s(c) + sum t_i (n . e_i) - mu >= 0
-    rows.push_back(Row{{glm::dot(n, e[0]), glm::dot(n, e[1]), glm::dot(n, e[2]), -1.0}, -(glm::dot(n, c) + q.w)});
+    // (s(c) + sum t_i (n . e_i) - mu) / L >= 0
+    rows.push_back(Row{{glm::dot(n, e[0]) / size, glm::dot(n, e[1]) / size, glm::dot(n, e[2]) / size, -1.0},
+                       -(glm::dot(n, c) + q.w) / size});
   }
   for (int i = 0; i < 3; ++i) {
     Row lo{{0, 0, 0, 0}, -1.0}, hi{{0, 0, 0, 0}, -1.0};
@@ -141,7 +146,7 @@ double max_min_depth(const std::vector<glm::dvec4>& planes, const glm::dvec3& c,
           }
           if (ok) best = std::max(best, y.w);
         }
-  return best;
+  return best * size;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <glm/ext/matrix_transform.hpp>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -14,15 +15,28 @@ glm::vec4 matrix_row(const glm::mat4& m, int i) noexcept {
   return glm::vec4(m[0][i], m[1][i], m[2][i], m[3][i]);
 }
 
+bool gribb_hartmann_halves(const glm::vec4& a, const glm::vec4& b) noexcept {
+  constexpr double kMax = double(std::numeric_limits<float>::max());
+  for (int i = 0; i < 4; ++i)
+    if (double(std::fabs(a[i])) + double(std::fabs(b[i])) > kMax) return true;
+  return false;
+}
+
 namespace {
 
 Plane plane_of(const glm::vec4& r) noexcept { return Plane{glm::vec3(r), r.w}; }
 
 // Rows are added in float, one rounding per coefficient. For an infinite projection the two
 // rows agree exactly in their first three entries, so the difference is exactly zero: the far
-// plane comes out as n == 0, d > 0 without any special case.
-glm::vec4 row_add(const glm::vec4& a, const glm::vec4& b) noexcept { return a + b; }
-glm::vec4 row_sub(const glm::vec4& a, const glm::vec4& b) noexcept { return a - b; }
+// plane comes out as n == 0, d > 0 without any special case. Rows that reach past FLT_MAX
+// (gribb_hartmann_halves) are halved first: the sum of two halves cannot overflow, and half the
+// plane is the same half-space.
+glm::vec4 row_add(const glm::vec4& a, const glm::vec4& b) noexcept {
+  return gribb_hartmann_halves(a, b) ? a * 0.5f + b * 0.5f : a + b;
+}
+glm::vec4 row_sub(const glm::vec4& a, const glm::vec4& b) noexcept {
+  return gribb_hartmann_halves(a, b) ? a * 0.5f - b * 0.5f : a - b;
+}
 
 void require(bool ok, const char* field, const std::string& problem) {
   if (!ok) throw ValidationError(std::string(field) + ": " + problem);

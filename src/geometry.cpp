@@ -73,7 +73,17 @@ float float_at_most(double v) noexcept {
   return f;
 }
 
-Obb to_obb(const Aabb& b) noexcept { return Obb{b.center(), glm::mat3(1.0f), b.half_extent()}; }
+Obb to_obb(const Aabb& b) noexcept {
+  glm::vec3 c = b.center(), h = b.half_extent();
+  // Where min + max or max - min overflows float (a box reaching across most of the range), from
+  // the halves: 0.5 min + 0.5 max cannot overflow, and halving is exact for normal values, so it
+  // rounds once as the sum would.
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(c[i])) c[i] = 0.5f * b.min[i] + 0.5f * b.max[i];
+    if (!std::isfinite(h[i])) h[i] = 0.5f * b.max[i] - 0.5f * b.min[i];
+  }
+  return Obb{c, glm::mat3(1.0f), h};
+}
 
 namespace {
 

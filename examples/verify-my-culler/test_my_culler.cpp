@@ -35,7 +35,8 @@ cullproof::Method my_method(bool bug) {
       });
 }
 
-// Every distribution (14 families, 2,000 cases each), shrunk failures written under corpus/.
+// The helper's default distributions (every family but `huge`, 2,000 cases each), shrunk failures
+// written under corpus/.
 cullproof::testing::ClaimOptions options() {
   cullproof::testing::ClaimOptions o;
   o.corpus = "corpus";

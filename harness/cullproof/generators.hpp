@@ -19,8 +19,9 @@
 namespace cullproof::gen {
 
 /// Named case distributions. uniform .. degenerate, contact and camera_path are the generic ones
-/// (the campaign's default); touch .. rod are the hard-case families, reported together as
-/// "all-hard".
+/// (the campaign's default); touch .. rod, huge and subnormal are the hard-case families,
+/// reported together as "all-hard". New distributions are added at the end: a case's stream is
+/// keyed on the distribution's value, so the cases of the others stay the same.
 enum class Distribution {
   uniform,            ///< volumes of all sizes anywhere around the frustum
   near_boundary,      ///< within a few box sizes of a frustum face
@@ -38,6 +39,8 @@ enum class Distribution {
   rod,                ///< long thin boxes crossing the frustum with no corner inside
   camera_path,        ///< a camera moving past fixed volumes, frame by frame (see CameraPath)
   contact,            ///< float-exact (see float_exact) contact with faces, edges and corners, every frustum kind
+  huge,               ///< values up to FLT_MAX: max - min, n.x + d, centres and row sums overflow
+  subnormal,          ///< subnormal sizes, distances, coefficients and entries: products underflow
 };
 
 /// Stable kebab-case name ("near-boundary", "far-offset", ...).
@@ -51,6 +54,11 @@ std::vector<Distribution> parse_distributions(std::string_view name);
 std::vector<Distribution> generic_distributions();
 /// The hard-case families.
 std::vector<Distribution> hard_distributions();
+/// Every distribution but `huge`, in "all" order: those on which the float evaluations of a plane
+/// test do not overflow. The test helper's default (cullproof/gtest.hpp): a float culler that
+/// makes no provision for overflow, such as a plain n/p-vertex test, breaks a conservative claim
+/// on `huge`, which is therefore asked for by name.
+std::vector<Distribution> no_overflow_distributions();
 
 /// A generated case: the frustum as a culler sees it (and the matrix, for end-to-end cases), a
 /// volume, and the frustum's size for relative distances.

@@ -74,6 +74,12 @@
 //
 //  End to end (CaseFrustum::matrix): n^ = fl(r4 +- rk) has |n^_i - n_i| <= u |r4_i +- rk_i|
 //  <= u (|r4_i| + |rk_i|) =: u a_i (the [0,1] near plane is a row itself: exact, a = |r3|).
+//  Where the rows reach past FLT_MAX, frustum_from_matrix extracts half the plane instead,
+//  n^ = fl(fl(r4/2) +- fl(rk/2)), and the true plane is taken as (r4 +- rk)/2 (the same
+//  half-space). Halving is exact unless an entry is subnormal (then it rounds by at most
+//  2^-150), so |n^_i - n_i| <= u (|r4_i| + |rk_i|)/2 + 2^-149 (1 + u) <= u a_i with
+//  a_i = (|r4_i| + |rk_i|)/2, plus 2^-124 where an entry is subnormal. Every a_i is then at most
+//  FLT_MAX: the bounds of a finite matrix are finite.
 #include "cullproof/certified.hpp"
 
 #include <algorithm>
@@ -266,9 +272,20 @@ CertifiedFrustum certify_matrix(const glm::mat4& m, DepthConvention depth) {
   c.planes = frustum_from_matrix(m, depth);
   const glm::vec4 r[4] = {glm::abs(matrix_row(m, 0)), glm::abs(matrix_row(m, 1)), glm::abs(matrix_row(m, 2)),
                           glm::abs(matrix_row(m, 3))};
+  // The bound of fl(r4 +- rk), or of fl(fl(r4/2) +- fl(rk/2)) where frustum_from_matrix halves
+  // the rows (they reach past FLT_MAX): half the plane, with 2^-124 added to a coefficient whose
+  // entries may be subnormal (halving one rounds by up to 2^-150; see "End to end" above).
   auto sum = [](const glm::vec4& a, const glm::vec4& b) {
+    const bool halved = gribb_hartmann_halves(a, b);
     glm::vec4 out;
-    for (int i = 0; i < 4; ++i) out[i] = float_at_least(double(a[i]) + double(b[i]));
+    for (int i = 0; i < 4; ++i) {
+      double s = double(a[i]) + double(b[i]);
+      if (halved) {
+        s *= 0.5;
+        if ((a[i] != 0.0f && a[i] < 0x1p-126f) || (b[i] != 0.0f && b[i] < 0x1p-126f)) s += 0x1p-124;
+      }
+      out[i] = float_at_least(s);
+    }
     return out;
   };
   c.bound[kLeft] = c.bound[kRight] = sum(r[3], r[0]);

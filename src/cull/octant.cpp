@@ -20,7 +20,11 @@
 // a box exactly touching a plane could be culled), rejects the box; `inside` only when the three
 // accept all of it and the bounding sphere (radius d2) is inside both planes of every pair with
 // a margin for double rounding, or the n/p-vertex tests of the three inner planes confirm it;
-// otherwise intersecting. Claim: conservative, with no rounding allowance on float-exact cases.
+// otherwise intersecting. Claim: conservative, with no rounding allowance on float-exact cases,
+// on the whole float range: its plane values are taken in double where float overflows
+// (plane_value), and a box whose half-extent overflows gets the full test (pn_vertex_index, the
+// same); the octant it picks from a centre that overflowed may be any, which costs only speed
+// (the verdict is decided by the planes and the bounding sphere in double).
 // Touching: as pn_vertex (touching from outside: intersecting; from inside: inside).
 #include "cullproof/cull_coherence.hpp"
 
@@ -39,6 +43,16 @@ int plane_test(const Plane& pl, const Aabb& box) noexcept {
   const glm::vec3 n(pl.n.x > 0.0f ? box.min.x : box.max.x, pl.n.y > 0.0f ? box.min.y : box.max.y,
                     pl.n.z > 0.0f ? box.min.z : box.max.z);
   return pl.eval(n) < 0.0f ? 1 : 2;
+}
+
+// plane_test with the values taken by plane_value: in double where float overflows.
+int plane_test_wide(const Plane& pl, const Aabb& box) noexcept {
+  const glm::vec3 p(pl.n.x > 0.0f ? box.max.x : box.min.x, pl.n.y > 0.0f ? box.max.y : box.min.y,
+                    pl.n.z > 0.0f ? box.max.z : box.min.z);
+  if (plane_value(pl, p) < 0.0) return 0;
+  const glm::vec3 n(pl.n.x > 0.0f ? box.min.x : box.max.x, pl.n.y > 0.0f ? box.min.y : box.max.y,
+                    pl.n.z > 0.0f ? box.min.z : box.max.z);
+  return plane_value(pl, n) < 0.0 ? 1 : 2;
 }
 
 }  // namespace
@@ -90,7 +104,9 @@ Visibility OctantCuller::classify(const Aabb& box) const noexcept {
 Visibility OctantCuller::classify_corrected(const Aabb& box) const noexcept {
   const glm::vec3 h = box.half_extent();
   const double d2_sq = double(h.x) * h.x + double(h.y) * h.y + double(h.z) * h.z;
-  if (!(d2_sq <= d1_sq_)) return pn_vertex(given_, box);
+  // A half-extent that overflows float (a box reaching across most of the range) is infinite
+  // here and takes the full test.
+  if (!(d2_sq <= d1_sq_)) return pn_vertex_index(given_, box);
   const glm::vec3 c = box.center();
   int outer[3], inner[3];
   for (int k = 0; k < 3; ++k) {
@@ -101,7 +117,7 @@ Visibility OctantCuller::classify_corrected(const Aabb& box) const noexcept {
   }
   bool intersect = false;
   for (int k = 0; k < 3; ++k) {
-    const int r = plane_test(given_[outer[k]], box);
+    const int r = plane_test_wide(given_[outer[k]], box);
     if (r == 0) return Visibility::outside;
     if (r == 1) intersect = true;
   }
@@ -124,7 +140,7 @@ Visibility OctantCuller::classify_corrected(const Aabb& box) const noexcept {
   }
   if (sphere_inside) return Visibility::inside;
   for (int k = 0; k < 3; ++k)
-    if (plane_test(given_[inner[k]], box) != 2) return Visibility::intersecting;
+    if (plane_test_wide(given_[inner[k]], box) != 2) return Visibility::intersecting;
   return Visibility::inside;
 }
 

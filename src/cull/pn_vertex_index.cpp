@@ -8,8 +8,12 @@
 //    returns outside or intersecting, never inside. The post visits planes in the order
 //    near, left, right, bottom, top, far; the verdict does not depend on the order.
 //  - pn_vertex_index: the same trick made three-way (the n-vertex index is 1 - p index), so the
-//    verdicts equal pn_vertex (A&M fig. 4).
-// Claim: conservative (both), as pn_vertex.
+//    verdicts equal pn_vertex (A&M fig. 4) wherever the float plane values are finite. Where a
+//    value overflows float (coordinates or coefficients near FLT_MAX: two products of opposite
+//    signs overflow to +inf and -inf and make NaN, whose every comparison is false), it is taken
+//    again in double (plane_value): without that, a box from -3e38 to 3e38 around the frustum
+//    came out inside.
+// Claim: conservative (both), as pn_vertex; pn_vertex_index also on the whole float range.
 // Touching: `dp < -d` is false for dp == -d, so a box touching a plane from outside is not
 // rejected (intersecting). In float, dp < -d and dp + d < 0 give the same answer (the rounded
 // sum of two floats has the sign of the exact sum), so this is docs/semantics.md's `>= 0` inside.
@@ -43,8 +47,8 @@ Visibility pn_vertex_index(const Frustum& f, const Aabb& b) noexcept {
     const int pz = static_cast<int>(p.n.z > 0.0f);
     const glm::vec3 pv(box[px].x, box[py].y, box[pz].z);
     const glm::vec3 nv(box[1 - px].x, box[1 - py].y, box[1 - pz].z);
-    if (p.eval(pv) < 0.0f) return Visibility::outside;
-    if (p.eval(nv) < 0.0f) intersect = true;
+    if (plane_value(p, pv) < 0.0) return Visibility::outside;
+    if (plane_value(p, nv) < 0.0) intersect = true;
   }
   return intersect ? Visibility::intersecting : Visibility::inside;
 }

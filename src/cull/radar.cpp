@@ -27,7 +27,11 @@
 //  4. The text's pointInFrustum rejects on `pcz > farDist || pcz < nearDist`; with an infinite
 //     far plane far_dist is +infinity and the comparison never rejects, as it should.
 // Camera parameters from planes: radar_camera_from_frustum derives apex, axes and fov from a
-// symmetric perspective frustum in double and refuses (std::nullopt) any other frustum.
+// symmetric perspective frustum in double and refuses (std::nullopt) any other frustum, and any
+// whose camera does not fit in float (an apex or a distance beyond FLT_MAX would be infinite).
+// radar_sphere_wide (radar-sphere, cullproof's own): the test of radar_sphere, taken again in
+// double when a float value overflows. Near FLT_MAX, centre - eye and the dot products overflow
+// to +-inf or NaN, whose comparisons are false: a sphere at 3e38 was answered inside.
 #include "cullproof/cull.hpp"
 
 #include <cmath>
@@ -121,6 +125,9 @@ std::optional<RadarCamera> radar_camera_from_frustum(const Frustum& f, bool as_p
   const double far_dist = infinite_far ? std::numeric_limits<double>::infinity()
                                        : glm::dot(pl[kFar].n, apex) + pl[kFar].d;
   if (!(near_dist > 0.0) || !(far_dist > near_dist)) return std::nullopt;
+  constexpr double kFloatMax = double(std::numeric_limits<float>::max());
+  if (!(glm::length(apex) <= kFloatMax) || !(near_dist <= kFloatMax) || !(infinite_far || far_dist <= kFloatMax))
+    return std::nullopt;
   RadarCamera r;
   r.eye = glm::vec3(apex);
   r.x_axis = glm::vec3(x);
@@ -144,6 +151,47 @@ Visibility radar_point(const RadarCamera& cam, const Point& p) noexcept {
   aux = aux * cam.ratio;
   if (pcx > aux || pcx < -aux) return Visibility::outside;
   return Visibility::inside;
+}
+
+namespace {
+
+// radar_sphere's operations in T. With T = float, `overflowed` is set (and the verdict is not to
+// be used) when a value it compares is not finite. A bound that overflows alone keeps the sign
+// of its exact value and compares right; an infinite coordinate or dot product, or a NaN, does
+// not, and every value is checked rather than reasoning about which.
+template <class T>
+Visibility radar_sphere_in(const RadarCamera& cam, const Sphere& s, bool& overflowed) noexcept {
+  const T radius = T(s.radius);
+  const T vx = T(s.center.x) - T(cam.eye.x), vy = T(s.center.y) - T(cam.eye.y), vz = T(s.center.z) - T(cam.eye.z);
+  auto dot = [&](const glm::vec3& a) { return (vx * T(a.x) + vy * T(a.y)) + vz * T(a.z); };
+  const T az = dot(cam.z_axis), ay = dot(cam.y_axis), ax = dot(cam.x_axis);
+  const T far_hi = T(cam.far_dist) + radius, far_lo = T(cam.far_dist) - radius;
+  const T near_lo = T(cam.near_dist) - radius, near_hi = T(cam.near_dist) + radius;
+  const T dy = T(cam.sphere_factor_y) * radius, zy = az * T(cam.tang);
+  const T dx = T(cam.sphere_factor_x) * radius, zx = zy * T(cam.ratio);
+  const T y_out = zy + dy, y_in = zy - dy, x_out = zx + dx, x_in = zx - dx;
+  const bool infinite_far = std::isinf(cam.far_dist);
+  overflowed = !(std::isfinite(vx) && std::isfinite(vy) && std::isfinite(vz) && std::isfinite(az) && std::isfinite(ay) &&
+                 std::isfinite(ax) && std::isfinite(near_lo) && std::isfinite(near_hi) && std::isfinite(y_out) &&
+                 std::isfinite(y_in) && std::isfinite(x_out) && std::isfinite(x_in) &&
+                 (infinite_far || (std::isfinite(far_hi) && std::isfinite(far_lo))));
+  Visibility result = Visibility::inside;
+  if (az > far_hi || az < near_lo) return Visibility::outside;
+  if (az > far_lo || az < near_hi) result = Visibility::intersecting;
+  if (ay > y_out || ay < -y_out) return Visibility::outside;
+  if (ay > y_in || ay < -y_in) result = Visibility::intersecting;
+  if (ax > x_out || ax < -x_out) return Visibility::outside;
+  if (ax > x_in || ax < -x_in) result = Visibility::intersecting;
+  return result;
+}
+
+}  // namespace
+
+Visibility radar_sphere_wide(const RadarCamera& cam, const Sphere& s) noexcept {
+  bool overflowed = false;
+  const Visibility v = radar_sphere_in<float>(cam, s, overflowed);
+  if (!overflowed) return v;
+  return radar_sphere_in<double>(cam, s, overflowed);
 }
 
 Visibility radar_sphere(const RadarCamera& cam, const Sphere& s) noexcept {

@@ -134,7 +134,7 @@ void register_cull_methods(std::vector<Method>& out) {
           .on(kSphereKind)
           .touching("touching a bound from outside is intersecting (strict compares)"),
       [](const CaseFrustum& f) { return radar(f, false); },
-      [](const RadarCamera& c, const Sphere& s) { return radar_sphere(c, s); }));
+      [](const RadarCamera& c, const Sphere& s) { return radar_sphere_wide(c, s); }));
   out.push_back(make_method(
       describe("radar-sphere-as-published", published)
           .as("radar sphere test as published: tang = tan(fov), 1/cos(fov) (full angle)")
@@ -150,7 +150,7 @@ void register_cull_methods(std::vector<Method>& out) {
           .from(lh + "sphereInFrustum; batch form of sphere-plane")
           .claims(Claim::conservative, kDerivedTol)
           .on(kSphereKind)
-          .touching("as sphere-plane (bit-for-bit the same verdicts)"),
+          .touching("as sphere-plane (bit-for-bit the same verdicts where the plane values are finite)"),
       normalized, [](const Frustum& f, const Sphere& s) { return sphere_as_word(s, sphere_kernel(f)); },
       [](const Frustum& f, const Sphere* s, std::size_t n, Visibility* v) { sphere_batch(s, n, v, sphere_kernel(f)); }));
   // ---- AABBs
@@ -202,7 +202,7 @@ void register_cull_methods(std::vector<Method>& out) {
           .from(am + "§3.1, batch form with the min/max choice hoisted per plane")
           .claims(Claim::conservative, kDirectTol)
           .on(kAabbKind)
-          .touching(std::string(kTouchPn) + " (bit-for-bit pn-vertex)"),
+          .touching(std::string(kTouchPn) + " (bit-for-bit pn-vertex-index)"),
       planes, [](const Frustum& f, const Aabb& b) { return aabb_as_word(b, aabb_kernel(f)); },
       [](const Frustum& f, const Aabb* b, std::size_t n, Visibility* v) { aabb_batch(b, n, v, aabb_kernel(f)); }));
   out.push_back(make_method(

@@ -16,6 +16,7 @@
 #include "cullproof/geometry.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -36,6 +37,9 @@ Visibility point_plane_test(const Frustum& frustum, const Point& p) noexcept;
 /// space" when d >= 0 (skipped) and "nothing" when d < 0 (outside). Conservative: a sphere near a
 /// frustum edge may be reported intersecting although it is outside.
 Visibility sphere_plane_test(const Frustum& normalized_frustum, const Sphere& s) noexcept;
+/// sphere_plane_test with each plane value taken by plane_value: the same verdicts wherever the
+/// float values are finite, the value in double where it overflows. (src/cull/sphere_plane.cpp)
+Visibility sphere_plane_test_wide(const Frustum& normalized_frustum, const Sphere& s) noexcept;
 
 // ---------------------------------------------------------------------------------------------
 // The radar approach (src/cull/radar.cpp; Lighthouse3D "Radar Approach", after Puig Placeres,
@@ -63,7 +67,8 @@ RadarCamera radar_camera(const PerspectiveCamera& cam);
 RadarCamera radar_camera_as_published(const PerspectiveCamera& cam);
 /// Camera parameters of a symmetric perspective frustum, derived from its planes (in double):
 /// apex, axes, tan of the half fovs, near and far (far may be infinite). std::nullopt when the
-/// frustum is not a symmetric perspective one (within relative tolerance 1e-5).
+/// frustum is not a symmetric perspective one (within relative tolerance 1e-5), or when its
+/// camera does not fit in float (an apex or a near or far distance beyond FLT_MAX).
 /// `as_published` applies the Implementation II factors to the derived fov.
 std::optional<RadarCamera> radar_camera_from_frustum(const Frustum& frustum, bool as_published = false);
 
@@ -73,6 +78,10 @@ Visibility radar_point(const RadarCamera& cam, const Point& p) noexcept;
 /// Radar sphere test with the sphere factors (Implementation II). A touching sphere is
 /// intersecting. Conservative (per-plane, like sphere_plane_test) with the corrected camera.
 Visibility radar_sphere(const RadarCamera& cam, const Sphere& s) noexcept;
+/// radar_sphere with the same operations, taken again in double when one of its float values
+/// overflows (a coordinate, a dot product or a bound that is not finite, far excepted when it is
+/// infinite): the verdicts of radar_sphere wherever nothing overflows. (src/cull/radar.cpp)
+Visibility radar_sphere_wide(const RadarCamera& cam, const Sphere& s) noexcept;
 
 // ---------------------------------------------------------------------------------------------
 // AABB tests
@@ -85,10 +94,22 @@ Visibility aabb_eight_corner(const Frustum& frustum, const Aabb& box) noexcept;
 /// (value < 0): outside; p-vertex outside: intersecting. (src/cull/pn_vertex.cpp)
 Visibility pn_vertex(const Frustum& frustum, const Aabb& box) noexcept;
 
-/// The min/max index trick of the blog post "View frustum culling (AABB vs Frustum)",
-/// made three-way: box[] = {min, max},
-/// p index = (n > 0), n index = 1 - p index. Same verdicts as pn_vertex. (src/cull/pn_vertex_index.cpp)
+/// The min/max index trick of the blog post "View frustum culling (AABB vs Frustum)", made
+/// three-way: box[] = {min, max}, p index = (n > 0), n index = 1 - p index. The verdicts of
+/// pn_vertex wherever the float plane values are finite; a value that overflows float is taken
+/// again in double (plane_value). (src/cull/pn_vertex_index.cpp)
 Visibility pn_vertex_index(const Frustum& frustum, const Aabb& box) noexcept;
+
+/// dot(n, x) + d as Plane::eval computes it in float; where that overflows (finite input, a
+/// value that is not finite: an infinite product or partial sum, or inf - inf), again in double,
+/// where every product of two floats is exact and no sum of four of them overflows (each is
+/// below 2^256). A float overflow says nothing about the sign of the value (n_x x_x = +inf and
+/// n_y x_y = -inf make NaN), so a test that must not err beyond rounding takes it in double.
+inline double plane_value(const Plane& p, const glm::vec3& x) noexcept {
+  const float v = p.eval(x);
+  if (std::isfinite(v)) return v;
+  return ((double(p.n.x) * x.x + double(p.n.y) * x.y) + double(p.n.z) * x.z) + double(p.d);
+}
 /// The p-vertex post as published: only the p-vertex, `dp < -d` rejects; returns outside or
 /// intersecting, never inside (the post's test is two-way). (src/cull/pn_vertex_index.cpp)
 Visibility p_vertex_post(const Frustum& frustum, const Aabb& box) noexcept;

@@ -2,8 +2,11 @@
 //
 // Structure-of-arrays input; output as a bitset (bit i of word i/64, LSB first) or as an index
 // list. The verdicts are bit-for-bit those of the scalar tests on every input: AABBs as
-// pn_vertex (Assarsson & Möller 2000 §3.1), spheres as sphere_plane_test (Lighthouse3D) — same
-// operations in the same order, no FMA (-ffp-contract=off, no MulAdd).
+// pn_vertex_index, which is pn_vertex (Assarsson & Möller 2000 §3.1) wherever the float plane
+// values are finite, spheres as sphere_plane_test_wide, which is sphere_plane_test (Lighthouse3D)
+// there — same operations in the same order, no FMA (-ffp-contract=off, no MulAdd in a value); a
+// volume whose plane value overflows float goes through the scalar test, which takes that value
+// in double (plane_value).
 #pragma once
 
 #include "cullproof/cull.hpp"
@@ -39,21 +42,21 @@ struct SphereSoa {
 /// Number of 64-bit words of a bitset over n items.
 constexpr std::size_t bitset_words(std::size_t n) noexcept { return (n + 63) / 64; }
 
-/// visible bit i set iff pn_vertex(frustum, box i) != outside. `visible` holds
+/// visible bit i set iff pn_vertex_index(frustum, box i) != outside. `visible` holds
 /// bitset_words(count) words; bits past count are zero.
 void cull_aabbs_bitset(const Frustum& frustum, const AabbSoa& boxes, std::uint64_t* visible);
-/// As cull_aabbs_bitset, and inside bit i set iff pn_vertex(frustum, box i) == inside.
+/// As cull_aabbs_bitset, and inside bit i set iff pn_vertex_index(frustum, box i) == inside.
 void classify_aabbs_bitset(const Frustum& frustum, const AabbSoa& boxes, std::uint64_t* visible,
                            std::uint64_t* inside);
 /// Writes the indices of the visible boxes (ascending) to `out` (room for count) and returns
 /// how many there are.
 std::size_t cull_aabbs_indices(const Frustum& frustum, const AabbSoa& boxes, std::uint32_t* out);
 
-/// visible bit i set iff sphere_plane_test(normalized_frustum, sphere i) != outside.
+/// visible bit i set iff sphere_plane_test_wide(normalized_frustum, sphere i) != outside.
 /// The frustum must be normalised (Frustum::normalized()).
 void cull_spheres_bitset(const Frustum& normalized_frustum, const SphereSoa& spheres,
                          std::uint64_t* visible);
-/// As cull_spheres_bitset, and inside bit i set iff sphere_plane_test(...) == inside.
+/// As cull_spheres_bitset, and inside bit i set iff sphere_plane_test_wide(...) == inside.
 void classify_spheres_bitset(const Frustum& normalized_frustum, const SphereSoa& spheres,
                              std::uint64_t* visible, std::uint64_t* inside);
 /// Indices of the visible spheres; returns the count.

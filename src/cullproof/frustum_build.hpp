@@ -39,8 +39,15 @@ glm::vec4 matrix_row(const glm::mat4& m, int i) noexcept;
 /// right r4-r1, bottom r4+r2, top r4-r2; depth per `depth` (docs/semantics.md "Frusta from matrices"): near r4+r3
 /// or r3, far r4-r3; reversed-Z swaps the near and far roles. An infinite far plane comes out as
 /// n == 0, d > 0 ("contains all space"), never NaN. Planes are not normalised.
+/// Every plane is finite for every finite matrix: a plane whose two rows reach past FLT_MAX
+/// (gribb_hartmann_halves) is extracted as fl(r4/2 +- rk/2), half the plane, the same half-space
+/// (halving is exact for normal entries; a subnormal one rounds by at most 2^-150). Otherwise
+/// fl(r4 +- rk), one rounding per coefficient.
 /// Passing P*V gives world-space planes; passing P*V*M gives planes in M's local space.
 Frustum frustum_from_matrix(const glm::mat4& clip_from_space, DepthConvention depth = {});
+/// Whether frustum_from_matrix halves the rows a and b before adding or subtracting them: some
+/// coefficient has |a_i| + |b_i| > FLT_MAX, where the float sum or difference may overflow.
+bool gribb_hartmann_halves(const glm::vec4& a, const glm::vec4& b) noexcept;
 
 /// Planes in an object's local space: frustum_from_matrix(view_proj * model). Test boxes given in
 /// the object's own coordinates against these (the blog post "View frustum culling (AABB vs Frustum)").

@@ -90,7 +90,9 @@ unsigned volume_kind(const Volume& v) noexcept;
 /// "point", "sphere", "aabb" or "obb".
 std::string_view volume_kind_name(unsigned kind_bit) noexcept;
 
-/// An OBB with the same geometry as the box (axes = identity columns).
+/// An OBB with the same geometry as the box (axes = identity columns): centre 0.5 (min + max)
+/// and half-extents 0.5 (max - min), each rounded once to float, also where the float sum or
+/// difference would overflow (then taken from the halves).
 Obb to_obb(const Aabb& b) noexcept;
 
 /// Thrown when input geometry is invalid. what() names the field and the problem.

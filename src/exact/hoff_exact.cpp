@@ -18,11 +18,16 @@
 //     float values (dual basis), not the assumption that the axes are orthonormal.
 // Needs a bounded frustum with frustum topology (nullopt otherwise). Touching is intersecting
 // (closed tests).
+// The whole float range: where the case's magnitudes leave float's comfortable range
+// (float_range_ok, hull_range_ok), the same operations run in double; in float, a box's corners
+// near FLT_MAX and the frustum's vertices beyond it overflow, and the edge parameters of a scene
+// of subnormal size are rounding noise.
 #include "cullproof/exact.hpp"
 
 #include "hull.hpp"
 
 #include <cmath>
+#include <type_traits>
 
 namespace cullproof {
 
@@ -31,67 +36,76 @@ using namespace exact_detail;
 namespace {
 
 // Coordinates s with p = c + sum s_i u_i (dual basis); the box is |s_i| <= h_i.
+template <class T>
 struct LocalFrame {
-  glm::vec3 c;
-  glm::vec3 w[3];  // dual basis: w_i . u_j = delta_ij
+  Vec3<T> c;
+  Vec3<T> w[3];  // dual basis: w_i . u_j = delta_ij
   bool ok = false;
-  explicit LocalFrame(const Obb& b) : c(b.center) {
-    const glm::vec3 c12 = glm::cross(b.axes[1], b.axes[2]);
-    const float det = glm::dot(b.axes[0], c12);
-    if (det == 0.0f || !std::isfinite(det)) return;
+  explicit LocalFrame(const Obb& b) : c(vec_as<T>(b.center)) {
+    const Vec3<T> u0 = vec_as<T>(b.axes[0]), u1 = vec_as<T>(b.axes[1]), u2 = vec_as<T>(b.axes[2]);
+    const Vec3<T> c12 = glm::cross(u1, u2);
+    const T det = glm::dot(u0, c12);
+    if (det == T(0) || !std::isfinite(det)) return;
     w[0] = c12 / det;
-    w[1] = glm::cross(b.axes[2], b.axes[0]) / det;
-    w[2] = glm::cross(b.axes[0], b.axes[1]) / det;
+    w[1] = glm::cross(u2, u0) / det;
+    w[2] = glm::cross(u0, u1) / det;
     ok = true;
   }
-  glm::vec3 local(const glm::vec3& p) const {
-    const glm::vec3 d = p - c;
+  Vec3<T> local(const Vec3<T>& p) const {
+    const Vec3<T> d = p - c;
     return {glm::dot(d, w[0]), glm::dot(d, w[1]), glm::dot(d, w[2])};
   }
 };
 
-bool in_box(const glm::vec3& s, const glm::vec3& h) {
+template <class T>
+bool in_box(const Vec3<T>& s, const Vec3<T>& h) {
   return std::abs(s.x) <= h.x && std::abs(s.y) <= h.y && std::abs(s.z) <= h.z;
 }
 
 // Closed segment [a, b] (local coordinates) against the face s_k = side * h_k of the box |s| <= h.
-bool segment_hits_local_face(const glm::vec3& a, const glm::vec3& b, const glm::vec3& h, int k, float side) {
-  const float da = a[k] - side * h[k], db = b[k] - side * h[k];
-  if ((da > 0.0f && db > 0.0f) || (da < 0.0f && db < 0.0f)) return false;
+template <class T>
+bool segment_hits_local_face(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& h, int k, T side) {
+  const T da = a[k] - side * h[k], db = b[k] - side * h[k];
+  if ((da > T(0) && db > T(0)) || (da < T(0) && db < T(0))) return false;
   const int j = (k + 1) % 3, l = (k + 2) % 3;
-  if (da == 0.0f && db == 0.0f) return clip_segment_to_rect(a[j], b[j] - a[j], h[j], a[l], b[l] - a[l], h[l]);
-  const float t = da / (da - db);
-  const glm::vec3 p = a + t * (b - a);
+  if (da == T(0) && db == T(0)) return clip_segment_to_rect_as<T>(a[j], b[j] - a[j], h[j], a[l], b[l] - a[l], h[l]);
+  const T t = da / (da - db);
+  const Vec3<T> p = a + t * (b - a);
   return std::abs(p[j]) <= h[j] && std::abs(p[l]) <= h[l];
 }
 
-}  // namespace
-
-std::optional<Visibility> hoff_exact(const Frustum& f, const Obb& b, HoffStage* stage) {
-  const auto poly = frustum_polyhedron(f);
-  if (!poly) return std::nullopt;
-  // The corner triples must be the polytope's vertices (not so when nearly parallel planes
-  // cross between near and far): otherwise the edge and face tests look at the wrong solid.
-  const auto hull = frustum_hull(f);
-  if (!hull || hull->empty) return hull && hull->empty ? std::optional<Visibility>(Visibility::outside) : std::nullopt;
+// `redo` is set (and nothing decided) when the float run finds the frustum's vertices beyond its
+// range.
+template <class T>
+std::optional<Visibility> hoff_exact_in(const Frustum& f, const Obb& b, HoffStage* stage, bool& redo) {
+  // A bounded frustum whose corner triples are the polytope's vertices (not so when nearly
+  // parallel planes cross between near and far): otherwise the edge and face tests look at the
+  // wrong solid. The corners are those of frustum_corners (the same triples, in double).
+  const auto hull = frustum_hull_as<T>(f);
+  if (!hull || hull->empty || !hull->rays.empty() || hull->vertices.size() != 8) return std::nullopt;
+  if (std::is_same_v<T, float> && !hull_range_ok(f, b, hull->magnitude)) {
+    redo = true;
+    return std::nullopt;
+  }
   auto end = [&](HoffStage s, Visibility v) {
     if (stage) *stage = s;
     return v;
   };
-  const auto v = obb_corners(b);
-  if (const auto decided = hoff_trivial_stages(f, v, stage)) return *decided;
+  const auto v = obb_corners_as<T>(b);
+  if (const auto decided = hoff_trivial_stages_as<T>(f, v, stage)) return *decided;
 
-  const LocalFrame frame(b);
+  const LocalFrame<T> frame(b);
   if (!frame.ok) return std::nullopt;  // coplanar axes: not a box
-  glm::vec3 local[8];
-  for (std::size_t i = 0; i < 8; ++i) local[i] = frame.local(poly->corners[i]);
+  const Vec3<T> half = vec_as<T>(b.half);
+  Vec3<T> local[8];
+  for (std::size_t i = 0; i < 8; ++i) local[i] = frame.local(hull->vertices[i]);
   // Frustum edges against box faces (Hoff's step 5), in the box's own coordinates.
   for (int i = 0; i < 8; ++i)
     for (int bit : {1, 2, 4}) {
       if (i & bit) continue;
       for (int k = 0; k < 3; ++k)
-        for (float s : {1.0f, -1.0f})
-          if (segment_hits_local_face(local[i], local[i | bit], b.half, k, s))
+        for (T s : {T(1), T(-1)})
+          if (segment_hits_local_face<T>(local[i], local[i | bit], half, k, s))
             return end(HoffStage::edge_face, Visibility::intersecting);
     }
   // Added 1: box edges against frustum faces.
@@ -99,13 +113,24 @@ std::optional<Visibility> hoff_exact(const Frustum& f, const Obb& b, HoffStage* 
     for (int bit : {1, 2, 4}) {
       if (i & bit) continue;
       for (int face = 0; face < kPlaneCount; ++face)
-        if (segment_hits_frustum_face(v[static_cast<std::size_t>(i)], v[static_cast<std::size_t>(i | bit)], f, face))
+        if (segment_hits_frustum_face_as<T>(v[static_cast<std::size_t>(i)], v[static_cast<std::size_t>(i | bit)], f, face))
           return end(HoffStage::box_edge_face, Visibility::intersecting);
     }
   // Added 2: any frustum vertex inside the box (the frustum inside the box).
-  for (const glm::vec3& s : local)
-    if (in_box(s, b.half)) return end(HoffStage::containment, Visibility::intersecting);
+  for (const Vec3<T>& s : local)
+    if (in_box<T>(s, half)) return end(HoffStage::containment, Visibility::intersecting);
   return end(HoffStage::final_reject, Visibility::outside);
+}
+
+}  // namespace
+
+std::optional<Visibility> hoff_exact(const Frustum& f, const Obb& b, HoffStage* stage) {
+  bool redo = !float_range_ok(f, b);
+  if (!redo) {
+    const auto v = hoff_exact_in<float>(f, b, stage, redo);
+    if (!redo) return v;
+  }
+  return hoff_exact_in<double>(f, b, stage, redo);
 }
 
 }  // namespace cullproof

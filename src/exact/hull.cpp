@@ -10,8 +10,9 @@
 namespace cullproof {
 namespace exact_detail {
 
-std::optional<FrustumHull> frustum_hull(const Frustum& f) {
-  FrustumHull h;
+template <class T>
+std::optional<FrustumHullT<T>> frustum_hull_as(const Frustum& f) {
+  FrustumHullT<T> h;
   for (const Plane& p : f.planes)
     if (p.is_degenerate() && p.d < 0.0f) {
       h.empty = true;
@@ -26,7 +27,8 @@ std::optional<FrustumHull> frustum_hull(const Frustum& f) {
     const auto x = planes_meet(f[(i & 1) ? kRight : kLeft], f[(i & 2) ? kTop : kBottom], f[(i & 4) ? kFar : kNear]);
     if (!x) return std::nullopt;
     exact_corners.push_back(*x);
-    h.vertices.push_back(glm::vec3(*x));
+    h.vertices.push_back(Vec3<T>(*x));
+    h.magnitude = std::max({h.magnitude, std::abs(x->x), std::abs(x->y), std::abs(x->z)});
   }
   if (!has_frustum_topology(f, exact_corners)) return std::nullopt;
   for (int i = 0; i < 4 * layers; ++i)
@@ -46,11 +48,55 @@ std::optional<FrustumHull> frustum_hull(const Frustum& f) {
       int e = 0;
       std::frexp(std::max({std::abs(r.x), std::abs(r.y), std::abs(r.z)}), &e);
       r = glm::dvec3(std::ldexp(r.x, -e), std::ldexp(r.y, -e), std::ldexp(r.z, -e));
-      h.rays.push_back(glm::vec3(r));
+      h.rays.push_back(Vec3<T>(r));
       h.ray_edges.emplace_back(i, i);
     }
   }
   return h;
+}
+
+template std::optional<FrustumHullT<float>> frustum_hull_as<float>(const Frustum& f);
+template std::optional<FrustumHullT<double>> frustum_hull_as<double>(const Frustum& f);
+
+namespace {
+
+// The largest magnitude of a normal component (the plane's scale in the products n_i x_i).
+double normal_scale(const Plane& p) {
+  return std::max({std::abs(double(p.n.x)), std::abs(double(p.n.y)), std::abs(double(p.n.z))});
+}
+
+// The box's largest coordinate magnitude, its extent included (double: no overflow).
+double box_magnitude(const Obb& b) {
+  double e = 0.0;
+  for (int i = 0; i < 3; ++i)
+    e += double(b.half[i]) *
+         std::max({std::abs(double(b.axes[i].x)), std::abs(double(b.axes[i].y)), std::abs(double(b.axes[i].z))});
+  return std::max({std::abs(double(b.center.x)), std::abs(double(b.center.y)), std::abs(double(b.center.z))}) + e;
+}
+
+}  // namespace
+
+bool float_range_ok(const Frustum& f, const Obb& b) noexcept {
+  const double m = box_magnitude(b);
+  if (!(m <= 0x1p40)) return false;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double u = std::abs(double(b.axes[i][k]));
+      if (u != 0.0 && !(u >= 0x1p-20 && u <= 0x1p20)) return false;
+    }
+  for (const Plane& p : f.planes) {
+    if (p.is_degenerate()) continue;
+    const double a = normal_scale(p);
+    if (!(a >= 0x1p-80 && a <= 0x1p80) || !(std::abs(double(p.d)) <= 0x1p100) || !(a * m <= 0x1p100)) return false;
+  }
+  return true;
+}
+
+bool hull_range_ok(const Frustum& f, const Obb& b, double hull_magnitude) noexcept {
+  if (!(hull_magnitude <= 0x1p40) || !(std::max(hull_magnitude, box_magnitude(b)) >= 0x1p-40)) return false;
+  for (const Plane& p : f.planes)
+    if (!p.is_degenerate() && !(normal_scale(p) * hull_magnitude <= 0x1p100)) return false;
+  return true;
 }
 
 bool has_frustum_topology(const Frustum& f, const std::vector<glm::dvec3>& corners) {
@@ -64,24 +110,6 @@ bool has_frustum_topology(const Frustum& f, const std::vector<glm::dvec3>& corne
       if (s < -1e-10 * mag) return false;
     }
   }
-  return true;
-}
-
-std::array<glm::vec3, 8> obb_corners(const Obb& b) noexcept {
-  std::array<glm::vec3, 8> c;
-  for (int i = 0; i < 8; ++i) {
-    const float s0 = (i & 1) ? b.half.x : -b.half.x;
-    const float s1 = (i & 2) ? b.half.y : -b.half.y;
-    const float s2 = (i & 4) ? b.half.z : -b.half.z;
-    c[static_cast<std::size_t>(i)] = b.center + s0 * b.axes[0] + s1 * b.axes[1] + s2 * b.axes[2];
-  }
-  return c;
-}
-
-bool all_corners_inside(const Frustum& f, const std::array<glm::vec3, 8>& corners) noexcept {
-  for (const Plane& p : f.planes)
-    for (const glm::vec3& v : corners)
-      if (p.eval(v) < 0.0f) return false;
   return true;
 }
 
@@ -135,49 +163,6 @@ std::string_view to_string(HoffStage s) noexcept {
 
 namespace cullproof::exact_detail {
 
-bool clip_segment_to_rect(float a_j, float d_j, float h_j, float a_l, float d_l, float h_l) noexcept {
-  float t0 = 0.0f, t1 = 1.0f;
-  const float pa[2] = {a_j, a_l}, pd[2] = {d_j, d_l}, h[2] = {h_j, h_l};
-  for (int m = 0; m < 2; ++m)
-    for (float side : {1.0f, -1.0f}) {
-      // side * (pa + t pd) <= h
-      const float num = h[m] - side * pa[m], den = side * pd[m];
-      if (den == 0.0f) {
-        if (num < 0.0f) return false;
-      } else if (den > 0.0f) {
-        t1 = std::min(t1, num / den);
-      } else {
-        t0 = std::max(t0, num / den);
-      }
-    }
-  return t0 <= t1;
-}
-
-std::optional<Visibility> hoff_trivial_stages(const Frustum& f, const std::array<glm::vec3, 8>& v,
-                                              HoffStage* stage) noexcept {
-  auto end = [&](HoffStage s, Visibility r) {
-    if (stage) *stage = s;
-    return r;
-  };
-  unsigned code[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  static constexpr int kOrder[6] = {kNear, kLeft, kRight, kBottom, kTop, kFar};
-  for (int plane : kOrder) {
-    unsigned all = ~0u;
-    for (int i = 0; i < 8; ++i) {
-      if (f[plane].eval(v[static_cast<std::size_t>(i)]) < 0.0f) code[i] |= 1u << plane;
-      all &= code[i];
-    }
-    if (all != 0u) return end(HoffStage::trivial_reject, Visibility::outside);
-  }
-  bool every_zero = true, some_zero = false;
-  for (unsigned c : code) {
-    every_zero = every_zero && c == 0u;
-    some_zero = some_zero || c == 0u;
-  }
-  if (some_zero) return end(HoffStage::trivial_accept, every_zero ? Visibility::inside : Visibility::intersecting);
-  return std::nullopt;
-}
-
 bool point_in_obb(const glm::vec3& p, const Obb& box) noexcept {
   const glm::vec3 d = p - box.center;
   for (int k = 0; k < 3; ++k)
@@ -198,31 +183,6 @@ bool segment_hits_obb_face(const glm::vec3& a, const glm::vec3& b, const Obb& bo
   const glm::vec3 p = a + t * (b - a);
   return std::abs(glm::dot(p - fc, box.axes[j])) <= box.half[j] &&
          std::abs(glm::dot(p - fc, box.axes[l])) <= box.half[l];
-}
-
-bool segment_hits_frustum_face(const glm::vec3& a, const glm::vec3& b, const Frustum& f, int face) noexcept {
-  const Plane& p = f[face];
-  const float da = p.eval(a), db = p.eval(b);
-  if ((da > 0.0f && db > 0.0f) || (da < 0.0f && db < 0.0f)) return false;
-  auto in_others = [&](const glm::vec3& x) {
-    for (int i = 0; i < kPlaneCount; ++i)
-      if (i != face && f[i].eval(x) < 0.0f) return false;
-    return true;
-  };
-  if (da == 0.0f && db == 0.0f) {
-    // In the face plane: clip the segment against the other five half-spaces.
-    float t0 = 0.0f, t1 = 1.0f;
-    for (int i = 0; i < kPlaneCount; ++i) {
-      if (i == face) continue;
-      const float ea = f[i].eval(a), eb = f[i].eval(b);
-      if (ea < 0.0f && eb < 0.0f) return false;
-      if (ea < 0.0f) t0 = std::max(t0, ea / (ea - eb));
-      else if (eb < 0.0f) t1 = std::min(t1, ea / (ea - eb));
-    }
-    return t0 <= t1;
-  }
-  const float t = da / (da - db);
-  return in_others(a + t * (b - a));
 }
 
 }  // namespace cullproof::exact_detail

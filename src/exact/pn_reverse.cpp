@@ -7,39 +7,61 @@
 // Claim: conservative. It removes the false intersects whose separating axis is a box face
 // normal; the ones that need an edge-cross-edge axis remain (sat-exact removes those).
 // Touching: a corner on a box face plane is not outside it, so touching stays intersecting.
+// The whole float range: where the case's magnitudes leave float's comfortable range
+// (float_range_ok, hull_range_ok), the same operations run in double; in float the centre value
+// and projected radius of a box near FLT_MAX overflow (a box from -3e38 to 3e38 around the
+// frustum came out inside), and so do the frustum's vertices beyond FLT_MAX.
 #include "cullproof/exact.hpp"
 
 #include "hull.hpp"
+
+#include <type_traits>
 
 namespace cullproof {
 
 using namespace exact_detail;
 
-Visibility pn_vertex_reverse(const Frustum& f, const Obb& b) {
+namespace {
+
+constexpr int kRedo = -1;  // pn_vertex_reverse_in<float>: the frustum's vertices leave float's range
+
+template <class T>
+int pn_vertex_reverse_in(const Frustum& f, const Obb& b) {
   bool straddles = false;
+  const Vec3<T> center = vec_as<T>(b.center);
   for (const Plane& p : f.planes) {
-    const float s = p.eval(b.center), r = obb_radius(b, p.n);
-    if (s + r < 0.0f) return Visibility::outside;
-    if (s - r < 0.0f) straddles = true;
+    const T s = plane_eval(p, center), r = obb_radius_as<T>(b, vec_as<T>(p.n));
+    if (s + r < T(0)) return int(Visibility::outside);
+    if (s - r < T(0)) straddles = true;
   }
-  if (!straddles) return Visibility::inside;
-  const auto hull = frustum_hull(f);
-  if (!hull) return Visibility::intersecting;
-  if (hull->empty) return Visibility::outside;
+  if (!straddles) return int(Visibility::inside);
+  const auto hull = frustum_hull_as<T>(f);
+  if (!hull) return int(Visibility::intersecting);
+  if (hull->empty) return int(Visibility::outside);
+  if (std::is_same_v<T, float> && !hull_range_ok(f, b, hull->magnitude)) return kRedo;
   // Each box face plane: outward normal m = +-(u_j x u_l), through c +- h_k u_k.
+  const Vec3<T> axes[3] = {vec_as<T>(b.axes[0]), vec_as<T>(b.axes[1]), vec_as<T>(b.axes[2])};
   for (int k = 0; k < 3; ++k) {
-    glm::vec3 m = glm::cross(b.axes[(k + 1) % 3], b.axes[(k + 2) % 3]);
-    if (glm::dot(m, b.axes[k]) < 0.0f) m = -m;  // left-handed axes: point m along u_k
-    for (float side : {1.0f, -1.0f}) {
-      const glm::vec3 n = side * m;
-      const float off = glm::dot(b.center + (side * b.half[k]) * b.axes[k], n);
+    Vec3<T> m = glm::cross(axes[(k + 1) % 3], axes[(k + 2) % 3]);
+    if (glm::dot(m, axes[k]) < T(0)) m = -m;  // left-handed axes: point m along u_k
+    for (T side : {T(1), T(-1)}) {
+      const Vec3<T> n = side * m;
+      const T off = glm::dot(center + (side * T(b.half[k])) * axes[k], n);
       bool all_out = true;
-      for (const glm::vec3& v : hull->vertices) all_out = all_out && glm::dot(v, n) > off;
-      for (const glm::vec3& r : hull->rays) all_out = all_out && glm::dot(r, n) >= 0.0f;
-      if (all_out) return Visibility::outside;
+      for (const Vec3<T>& v : hull->vertices) all_out = all_out && glm::dot(v, n) > off;
+      for (const Vec3<T>& r : hull->rays) all_out = all_out && glm::dot(r, n) >= T(0);
+      if (all_out) return int(Visibility::outside);
     }
   }
-  return Visibility::intersecting;
+  return int(Visibility::intersecting);
+}
+
+}  // namespace
+
+Visibility pn_vertex_reverse(const Frustum& f, const Obb& b) {
+  int r = float_range_ok(f, b) ? pn_vertex_reverse_in<float>(f, b) : kRedo;
+  if (r == kRedo) r = pn_vertex_reverse_in<double>(f, b);
+  return Visibility(r);
 }
 
 }  // namespace cullproof

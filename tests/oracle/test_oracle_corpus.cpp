@@ -1,4 +1,4 @@
-// Every committed case (corpus/, examples/cases.jsonl, examples/engines/corpus/) through the oracle and the independent method:
+// Every committed case (corpus/, examples/cases.jsonl, examples/float-range.jsonl, examples/engines/corpus/) through the oracle and the independent method:
 // zero disagreements, and where a case records a truth, the oracle reproduces it.
 #include "cullproof/case_io.hpp"
 #include "cullproof/oracle.hpp"
@@ -19,6 +19,7 @@ std::vector<fs::path> case_files() {
   // The example cases and the engines' corpus; not examples/ as a whole, which holds npm's
   // package files and installed packages.
   out.push_back("examples/cases.jsonl");
+  out.push_back("examples/float-range.jsonl");
   for (const char* dir : {"corpus", "examples/engines/corpus"}) {
     if (!fs::exists(dir)) continue;
     for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator(); ++it) {

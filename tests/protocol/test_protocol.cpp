@@ -211,5 +211,50 @@ TEST(Protocol, AProgramThatCannotRunIsReported) {
   EXPECT_THROW(external_methods(o), std::runtime_error);
 }
 
+// The reference adapter's own arithmetic, in process, on the planes cullproof extracts: the same
+// verdicts as the adapter's on every frustum exactly when every number reaches the program as
+// the float it is (numbers near FLT_MAX, subnormal ones, and the planes of a matrix whose row
+// sums overflow float, which cullproof sends as extracted from halved rows).
+Method adapter_arithmetic() {
+  MethodInfo info;
+  info.name = "reference-arithmetic";
+  info.claim = Claim::none;
+  return make_method(info, [](const CaseFrustum& f) { return f.planes; },
+                     [](const Frustum& f, const Aabb& b) {
+                       bool inside = true;
+                       for (const Plane& p : f.planes) {
+                         float pv = p.d, nv = p.d;
+                         for (int i = 0; i < 3; ++i) {
+                           pv += p.n[i] * (p.n[i] >= 0 ? b.max[i] : b.min[i]);
+                           nv += p.n[i] * (p.n[i] >= 0 ? b.min[i] : b.max[i]);
+                         }
+                         if (pv < 0) return Visibility::outside;
+                         if (nv < 0) inside = false;
+                       }
+                       return inside ? Visibility::inside : Visibility::intersecting;
+                     });
+}
+
+TEST(Protocol, FrustaAtTheEndsOfTheFloatRangeArriveAsTheyAre) {
+  VerifyOptions o = small_run();
+  o.cases = 1000;
+  o.distributions = {gen::Distribution::huge, gen::Distribution::subnormal};
+  const std::vector<Method> ext = external_methods(adapter({"ok"}));
+  ASSERT_EQ(ext.size(), 1u);
+  // No fault: every frame was well-formed JSON with finite numbers, and answered.
+  const VerifyResult r = run_verify(o, {ext[0], adapter_arithmetic()});
+  for (const auto& d : r.distributions) {
+    const MethodStats& a = d.methods[0];
+    const MethodStats& b = d.methods[1];
+    EXPECT_GT(a.cases, 200u) << gen::to_string(d.distribution);
+    EXPECT_EQ(a.cases, b.cases) << gen::to_string(d.distribution);
+    EXPECT_EQ(a.truth_outside, b.truth_outside) << gen::to_string(d.distribution);
+    EXPECT_EQ(a.false_reject, b.false_reject) << gen::to_string(d.distribution);
+    EXPECT_EQ(a.false_inside, b.false_inside) << gen::to_string(d.distribution);
+    EXPECT_EQ(a.false_intersect, b.false_intersect) << gen::to_string(d.distribution);
+    EXPECT_EQ(a.under_inside, b.under_inside) << gen::to_string(d.distribution);
+  }
+}
+
 }  // namespace
 }  // namespace cullproof
