@@ -493,7 +493,16 @@ json parse_json_limited(std::string_view text, int max_depth, std::string_view w
                                                ", the limit for " + std::string(what));
     return true;
   };
-  return json::parse(b, e, within);
+  try {
+    return json::parse(b, e, within);
+  } catch (const json::out_of_range& ex) {
+    // The one error of nlohmann's parser that is not a parse_error: a number past the range of a
+    // double ("1e999"), which it cannot hold. Reported like a limit, at the number's line.
+    std::string msg = ex.what();
+    const auto pos = msg.find("] ");
+    if (pos != std::string::npos) msg = msg.substr(pos + 2);
+    throw InputLimitError(st.token_line, "a number beyond the range of a double (" + msg + ")");
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -509,7 +518,9 @@ Case parse_case(std::string_view text, std::string_view source, int first_line) 
   Reader reader{std::string(source), &st};
   CountingIterator b{text.data(), &st}, e{text.data() + text.size(), &st};
   json::sax_parse(b, e, &reader);
-  return CaseParser(reader, std::string(source)).parse();
+  Case c = CaseParser(reader, std::string(source)).parse();
+  c.line = first_line;
+  return c;
 }
 
 Case read_case_file(const std::filesystem::path& file) {
@@ -517,22 +528,29 @@ Case read_case_file(const std::filesystem::path& file) {
   return parse_case(text, file.string(), 1);
 }
 
-std::vector<Case> read_cases_jsonl(const std::filesystem::path& file) {
-  const std::string text = read_case_text(file, kMaxCaseFileBytes, "a JSON Lines case file");
+std::vector<Case> parse_cases_jsonl(std::string_view text, std::string_view source) {
+  if (text.size() > kMaxCaseFileBytes)
+    throw CaseError(std::string(source), 0, "",
+                    "a text of " + std::to_string(text.size()) + " bytes, over the limit of " +
+                        byte_count_text(kMaxCaseFileBytes) + " for a JSON Lines case file");
   std::vector<Case> out;
   std::size_t pos = 0;
   int line = 1;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
+    if (end == std::string_view::npos) end = text.size();
     const std::string_view l(text.data() + pos, end - pos);
     bool blank = true;
     for (char ch : l) blank = blank && std::isspace(static_cast<unsigned char>(ch));
-    if (!blank) out.push_back(parse_case(l, file.string(), line));
+    if (!blank) out.push_back(parse_case(l, source, line));
     pos = end + 1;
     ++line;
   }
   return out;
+}
+
+std::vector<Case> read_cases_jsonl(const std::filesystem::path& file) {
+  return parse_cases_jsonl(read_case_text(file, kMaxCaseFileBytes, "a JSON Lines case file"), file.string());
 }
 
 std::vector<Case> read_cases(const std::filesystem::path& file) {

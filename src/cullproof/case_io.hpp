@@ -46,6 +46,9 @@ struct Case {
   std::optional<Visibility> truth;
   std::string note;
   nlohmann::json extra = nlohmann::json::object();  ///< verdicts, witness, distance, seed, ...
+  /// The line the case starts on in the text it was read from (1 for a one-case file; 0 for a case
+  /// that was not read), for messages about the case after reading. Not written by format_case.
+  int line = 0;
 };
 
 /// Error in a case file: where (file, 1-based line; 0 when it is about the file as a whole, as its
@@ -70,7 +73,11 @@ Case parse_case(std::string_view text, std::string_view source = "<input>", int 
 /// Reads a file holding one case (any layout), of at most kMaxCaseBytes. Throws CaseError (or
 /// std::system_error when the file cannot be read).
 Case read_case_file(const std::filesystem::path& file);
-/// Reads JSON Lines: one case per non-blank line, a file of at most kMaxCaseFileBytes. Throws
+/// Parses JSON Lines text: one case per non-blank line, each of at most kMaxCaseBytes, the whole of
+/// at most kMaxCaseFileBytes. `source` names the file in errors. Throws CaseError at the first bad
+/// line (no case of the text is returned then).
+std::vector<Case> parse_cases_jsonl(std::string_view text, std::string_view source = "<input>");
+/// Reads JSON Lines (parse_cases_jsonl) from a file of at most kMaxCaseFileBytes. Throws
 /// CaseError at the first bad line (or std::system_error when the file cannot be read).
 std::vector<Case> read_cases_jsonl(const std::filesystem::path& file);
 /// ".jsonl" files as JSON Lines, anything else as one case.
@@ -121,8 +128,9 @@ std::string read_file_limited(const std::filesystem::path& file, std::uintmax_t 
 void check_line_lengths(std::string_view text, std::size_t max_bytes, std::string_view what);
 /// Parses JSON text into a document, refusing nesting of arrays and objects deeper than
 /// `max_depth` as soon as the parser opens the first container past it (nlohmann's parser
-/// callback), before the document grows. Throws InputLimitError (with the line) for that, and
-/// nlohmann::json::parse_error for text that is not JSON.
+/// callback), before the document grows. Throws InputLimitError (with the line) for that and for
+/// a number past the range of a double ("1e999"), and nlohmann::json::parse_error for text that is
+/// not JSON.
 nlohmann::json parse_json_limited(std::string_view text, int max_depth, std::string_view what);
 
 /// The volume as the case-format JSON object ({"aabb": ...} etc.), numbers as shortest decimals.
