@@ -73,7 +73,7 @@ ErrorClass class_from_string(const std::string& s, const std::string& file) {
   for (ErrorClass e : {ErrorClass::correct, ErrorClass::false_reject, ErrorClass::false_inside,
                        ErrorClass::false_intersect, ErrorClass::under_inside})
     if (s == to_string(e)) return e;
-  throw std::runtime_error(file + ": field 'class': unknown error class \"" + s + "\"");
+  throw std::runtime_error(file + ": field 'class': unknown error class \"" + printable_text(s) + "\"");
 }
 
 std::string need_string(const nlohmann::json& x, const char* key, const std::string& file) {
@@ -92,11 +92,11 @@ CorpusEntry corpus_entry(Case c, const std::filesystem::path& file) {
   const std::string f = file.string();
   if (!e.c.truth) throw std::runtime_error(f + ": field 'truth': missing (a corpus case records the truth)");
   e.method = need_string(e.c.extra, "method", f);
-  try {
-    e.verdict = visibility_from_string(need_string(e.c.extra, "verdict", f));
-  } catch (const std::invalid_argument& ex) {
-    throw std::runtime_error(f + ": field 'verdict': " + ex.what());
-  }
+  const std::string verdict = need_string(e.c.extra, "verdict", f);
+  if (verdict != "outside" && verdict != "intersecting" && verdict != "inside")
+    throw std::runtime_error(f + ": field 'verdict': unknown visibility \"" + printable_text(verdict) +
+                             "\" (expected outside, intersecting or inside)");
+  e.verdict = visibility_from_string(verdict);
   e.error = class_from_string(need_string(e.c.extra, "class", f), f);
   e.distribution = need_string(e.c.extra, "distribution", f);
   if (auto it = e.c.extra.find("path"); it != e.c.extra.end()) {

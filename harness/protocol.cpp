@@ -17,7 +17,7 @@ namespace cullproof::protocol {
 using nlohmann::json;
 
 std::string excerpt(std::string_view line) {
-  return line.size() <= 200 ? std::string(line) : std::string(line.substr(0, 200)) + "...";
+  return printable_text(line.substr(0, 200)) + (line.size() > 200 ? "..." : "");
 }
 
 namespace {
@@ -91,10 +91,14 @@ std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::str
     info.origin = Origin::user;
     info.description = string_field(m, "description", "external program: " + program, at);
     info.source = string_field(m, "source", program, at);
+    const std::string claim = string_field(m, "claim", "none", at);
     try {
-      info.claim = claim_from_string(string_field(m, "claim", "none", at));
-    } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(at + ": " + e.what());
+      info.claim = claim_from_string(claim);
+    } catch (const std::invalid_argument&) {
+      std::string known;
+      for (Claim c : {Claim::certified_conservative, Claim::certified_exact, Claim::conservative, Claim::exact, Claim::none})
+        known += (known.empty() ? "" : ", ") + std::string(to_string(c));
+      throw std::runtime_error(at + ": \"claim\" " + excerpt(json(claim).dump()) + " is not a claim (" + known + ")");
     }
     if (const auto t = m.find("tolerance"); t != m.end()) {
       if (!t->is_number() || !(t->get<double>() >= 0.0))

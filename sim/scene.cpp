@@ -14,8 +14,12 @@ namespace cullproof::sim {
 
 using nlohmann::json;
 
+// The field (keys of the file) and the problem (which may quote its strings) are written through
+// printable_text: a NUL in them would cut the message short.
 SceneError::SceneError(std::string file, std::string field, const std::string& problem)
-    : std::runtime_error(file + ": " + field + ": " + problem), file_(std::move(file)), field_(std::move(field)) {}
+    : std::runtime_error(printable_text(file) + ": " + printable_text(field) + ": " + printable_text(problem)),
+      file_(std::move(file)),
+      field_(std::move(field)) {}
 
 const char* to_string(ProjectionKind k) noexcept {
   switch (k) {

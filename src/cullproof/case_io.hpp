@@ -116,6 +116,9 @@ class InputLimitError : public std::runtime_error {
   int line_;
 };
 
+/// `text` as an error message may quote it: control characters (a NUL would end the message
+/// where it stands) written as JSON escapes ("\n", "\u0000"), everything else as it is.
+std::string printable_text(std::string_view text);
 /// "1048576 bytes (1 MiB)": a byte count as the limits' messages give it.
 std::string byte_count_text(std::uintmax_t n);
 /// The whole of `file`, at most `max_bytes` of it. A regular file larger than that is refused by
