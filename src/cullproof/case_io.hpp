@@ -94,11 +94,19 @@ std::string format_hex_float(float x);
 
 /// Serialises a case. `pretty` gives the multi-line corpus layout; otherwise one line (JSONL).
 std::string format_case(const Case& c, bool pretty = false);
-/// Writes one case to `file` atomically: a temporary file in the same directory, flushed and
-/// renamed over the target, so a reader (or a crash) never sees a partial file. With
-/// `overwrite == false`, an existing file is left untouched and std::runtime_error is thrown.
+/// Writes one case to `file` atomically (write_file_atomic).
 void write_case_file(const std::filesystem::path& file, const Case& c, bool overwrite = true);
-/// Writes arbitrary text atomically (same guarantees as write_case_file).
+/// Writes `text` to `file` atomically: into a temporary file in the same directory (created with
+/// its missing parents), flushed to disk, then renamed over the target and the directory flushed,
+/// so a reader, a crash or a kill never sees a partial file: the target is the old file or the
+/// whole new one. A write that fails (a full disk, a read-only or missing directory) throws
+/// std::runtime_error "<file>: cannot write: <reason>" and leaves the target as it was and no
+/// temporary file. A process killed while writing can leave only its temporary file, named
+/// ".<name>.tmp-<pid>-<n>": hidden, and not ending in ".json", so no reader takes it for a case.
+/// With `overwrite == false` an existing target is left untouched and std::runtime_error is
+/// thrown ("<file>: exists already"), also when another writer creates it meanwhile (link(), not
+/// rename()). An existing target that is not a regular file (a device or a pipe, as /dev/stdout)
+/// is written in place, since renaming over it would replace it.
 void write_file_atomic(const std::filesystem::path& file, std::string_view text, bool overwrite = true);
 
 // ---- Bounded reading, for every reader of JSON from outside (case files, scene files, the
