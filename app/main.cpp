@@ -27,6 +27,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -93,23 +95,33 @@ int cmd_classify(const std::vector<std::string>& files, const std::vector<Method
   for (const std::string& file : files) {
     const std::vector<Case> cases = read_cases(file);  // throws CaseError naming file/line/field
     for (const Case& c : cases) {
-      validate(c.frustum.planes, "frustum");
+      // What goes wrong after reading is reported at the case's line too; nothing is printed for it.
+      try {
+        validate(c.frustum.planes, "frustum");
+      } catch (const ValidationError& e) {
+        throw CaseError(file, c.line, c.frustum.matrix ? "frustum.matrix" : "frustum.planes",
+                        std::string("the planes taken from it in float are not finite (") + e.what() + ")");
+      }
       json line = {{"id", c.id}};
-      json verdicts = json::object();
-      for (const Method& m : selected) {
-        if (!m.takes(c.volume)) continue;
-        const std::optional<Visibility> v = m.classify(c.frustum, c.volume);
-        if (v) verdicts[m.name] = std::string(to_string(*v));
-      }
-      line["verdicts"] = verdicts;
+      try {
+        json verdicts = json::object();
+        for (const Method& m : selected) {
+          if (!m.takes(c.volume)) continue;
+          const std::optional<Visibility> v = m.classify(c.frustum, c.volume);
+          if (v) verdicts[m.name] = std::string(to_string(*v));
+        }
+        line["verdicts"] = verdicts;
 #ifdef CULLPROOF_HAVE_ORACLE
-      if (!no_oracle) {
-        const json truth = oracle::to_json(oracle::classify(c.frustum, c.volume));
-        for (auto it = truth.begin(); it != truth.end(); ++it) line[it.key()] = it.value();
-      }
+        if (!no_oracle) {
+          const json truth = oracle::to_json(oracle::classify(c.frustum, c.volume));
+          for (auto it = truth.begin(); it != truth.end(); ++it) line[it.key()] = it.value();
+        }
 #else
-      (void)no_oracle;
+        (void)no_oracle;
 #endif
+      } catch (const std::exception& e) {
+        throw CaseError(file, c.line, "", std::string("cannot classify this case: ") + e.what());
+      }
       std::cout << line.dump() << "\n";
     }
   }
@@ -324,7 +336,7 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
 #endif
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   CLI::App app{"cullproof: proves view-frustum culling correct and shows what correctness costs"};
   app.require_subcommand(1);
 
@@ -467,4 +479,17 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+// The standard output is an output like the others: a write to it that fails (a full disk, a closed
+// pipe) is reported, naming it, and the status is non-zero.
+int main(int argc, char** argv) {
+  const int status = run(argc, argv);
+  std::cout.flush();
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+    const int err = errno;
+    std::cerr << "cullproof: error: cannot write the standard output: " << std::strerror(err) << "\n";
+    return status != 0 ? status : 1;
+  }
+  return status;
 }

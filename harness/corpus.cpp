@@ -20,31 +20,15 @@ std::string geometry_hash(const CaseFrustum& f, const Volume& v) {
   return fmt::format("{:012x}", h & 0xffffffffffffull);
 }
 
-namespace {
-
-ErrorClass class_from_string(const std::string& s, const std::string& file) {
-  for (ErrorClass e : {ErrorClass::correct, ErrorClass::false_reject, ErrorClass::false_inside,
-                       ErrorClass::false_intersect, ErrorClass::under_inside})
-    if (s == to_string(e)) return e;
-  throw std::runtime_error(file + ": field 'class': unknown error class \"" + s + "\"");
-}
-
-std::string need_string(const nlohmann::json& x, const char* key, const std::string& file) {
-  auto it = x.find(key);
-  if (it == x.end() || !it->is_string())
-    throw std::runtime_error(file + ": field '" + key + "': missing (a corpus case records it as a string)");
-  return it->get<std::string>();
-}
-
-}  // namespace
-
 std::vector<std::filesystem::path> corpus_case_files(const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> files;
   if (!std::filesystem::exists(dir)) return files;
   for (auto it = std::filesystem::recursive_directory_iterator(dir); it != std::filesystem::recursive_directory_iterator();
        ++it) {
-    // corpus/scenes/ (scene files) and corpus/scenes-*/ are not mismatch cases.
-    if (it->is_directory() && it.depth() == 0 && it->path().filename().string().rfind("scenes", 0) == 0) {
+    // corpus/scenes/ (scene files), corpus/scenes-*/ and corpus/faults/ (the cases that made a
+    // method fault, without a truth or a verdict) are not mismatch cases.
+    const std::string name = it->path().filename().string();
+    if (it.depth() == 0 && it->is_directory() && (name.rfind("scenes", 0) == 0 || name == "faults")) {
       it.disable_recursion_pending();
       continue;
     }
@@ -57,28 +41,7 @@ std::vector<std::filesystem::path> corpus_case_files(const std::filesystem::path
 std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir) {
   const std::vector<std::filesystem::path> files = corpus_case_files(dir);
   std::vector<CorpusEntry> out;
-  for (const auto& file : files) {
-    CorpusEntry e;
-    e.file = file;
-    e.c = read_case_file(file);
-    const std::string f = file.string();
-    if (!e.c.truth) throw std::runtime_error(f + ": field 'truth': missing (a corpus case records the truth)");
-    e.method = need_string(e.c.extra, "method", f);
-    try {
-      e.verdict = visibility_from_string(need_string(e.c.extra, "verdict", f));
-    } catch (const std::invalid_argument& ex) {
-      throw std::runtime_error(f + ": field 'verdict': " + ex.what());
-    }
-    e.error = class_from_string(need_string(e.c.extra, "class", f), f);
-    e.distribution = need_string(e.c.extra, "distribution", f);
-    if (auto it = e.c.extra.find("path"); it != e.c.extra.end()) {
-      e.path = path_from_json(*it, f);
-      if (format_frustum(e.path->frustum()) != format_frustum(e.c.frustum) ||
-          format_volume(e.path->volume()) != format_volume(e.c.volume))
-        throw std::runtime_error(f + ": field 'path': its last frame and its object are not the case's frustum and volume");
-    }
-    out.push_back(std::move(e));
-  }
+  for (const auto& file : files) out.push_back(corpus_entry(read_case_file(file), file));
   return out;
 }
 

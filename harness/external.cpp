@@ -7,6 +7,7 @@
 #include "cullproof/external.hpp"
 
 #include "cullproof/case_io.hpp"
+#include "cullproof/protocol.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -78,9 +79,7 @@ std::string frustum_text(const CaseFrustum& f) {
   return s + "}";
 }
 
-std::string excerpt(const std::string& line) {
-  return line.size() <= 200 ? line : line.substr(0, 200) + "...";
-}
+using protocol::excerpt;
 
 // The running program: one request at a time (the methods' calls are serialised here).
 class Process {
@@ -252,44 +251,18 @@ void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::siz
       p.read_line(what, kMaxAnswerBytes + n * kMaxAnswerBytesPerVolume, "its answer to " + what,
                   fmt::format("an answer about {} volume(s) ({} KiB and {} bytes a volume)", n, kMaxAnswerBytes >> 10,
                               kMaxAnswerBytesPerVolume));
-  json a;
+  protocol::Reply r;
   try {
-    a = parse_json_limited(line, kMaxProtocolDepth, "a protocol message");
-  } catch (const InputLimitError& limit) {
-    p.fail(fmt::format("answered {} with {}: {}", what, limit.what(), excerpt(line)));
-  } catch (const std::exception&) {
-    p.fail(fmt::format("answered {} with a line that is not JSON: {}", what, excerpt(line)));
+    r = protocol::parse_answer(line, id, n, what);
+  } catch (const std::runtime_error& bad) {
+    p.fail(bad.what());
   }
-  if (!a.is_object() || !a.contains("frame") || !a["frame"].is_number_unsigned())
-    p.fail(fmt::format("answered {} without a \"frame\" number: {}", what, excerpt(line)));
-  if (a["frame"].get<std::uint64_t>() != id)
-    p.fail(fmt::format("answered frame {} when {} was asked (answers must come in order): {}", a["frame"].get<std::uint64_t>(),
-                       what, excerpt(line)));
-  if (a.contains("error") && a["error"].is_string())
-    p.fail(fmt::format("reported an error for {}: {}", what, a["error"].get<std::string>()));
-  const auto v = a.find("verdicts");
-  if (v == a.end() || !v->is_array()) p.fail(fmt::format("answered {} without a \"verdicts\" array: {}", what, excerpt(line)));
-  if (v->size() != n)
-    p.fail(fmt::format("answered {} with {} verdict(s) for {} volume(s): {}", what, v->size(), n, excerpt(line)));
-  if (const auto t = a.find("ns"); t != a.end()) {
-    if (!t->is_number() || !(t->get<double>() >= 0.0))
-      p.fail(fmt::format("answered {} with \"ns\" {}, which is not a number of nanoseconds", what, t->dump()));
+  if (r.ns) {
     std::lock_guard<std::mutex> g(e.own_mutex);
-    e.own_ns += t->get<double>();
+    e.own_ns += *r.ns;
     e.own_volumes += n;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    const json& x = (*v)[i];
-    if (x.is_null()) {
-      out[i] = std::nullopt;
-    } else if (x.is_string() && (x == "outside" || x == "intersecting" || x == "inside")) {
-      out[i] = visibility_from_string(x.get<std::string>());
-    } else {
-      p.fail(fmt::format("answered {} with verdict {} for volume {}, which is not \"outside\", \"intersecting\", "
-                         "\"inside\" or null",
-                         what, x.dump(), i));
-    }
-  }
+  std::copy(r.verdicts.begin(), r.verdicts.end(), out);
 }
 
 class Prepared : public PreparedFrustum {
@@ -319,20 +292,6 @@ class Prepared : public PreparedFrustum {
   CaseFrustum f_;
 };
 
-unsigned kinds_of(const json& j, const std::string& where) {
-  unsigned k = 0;
-  if (!j.is_array() || j.empty()) throw std::runtime_error(where + ": \"volumes\" must be a non-empty array of kinds");
-  for (const json& x : j) {
-    const std::string s = x.is_string() ? x.get<std::string>() : x.dump();
-    if (s == "point") k |= kPointKind;
-    else if (s == "sphere") k |= kSphereKind;
-    else if (s == "aabb") k |= kAabbKind;
-    else if (s == "obb") k |= kObbKind;
-    else throw std::runtime_error(where + ": unknown volume kind " + x.dump() + " (point, sphere, aabb, obb)");
-  }
-  return k;
-}
-
 }  // namespace
 
 std::vector<Method> external_methods(const ExternalOptions& options) {
@@ -347,58 +306,15 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
                                          excerpt(handshakes.back())));
   }
   const std::shared_ptr<Process>& process = processes[0];
-  const std::string& line = handshakes[0];
-  json h;
-  try {
-    h = parse_json_limited(line, kMaxProtocolDepth, "a protocol message");
-  } catch (const InputLimitError& limit) {
-    process->fail(std::string("its handshake has ") + limit.what() + ": " + excerpt(line));
-  } catch (const std::exception&) {
-    process->fail("its handshake is not JSON: " + excerpt(line));
-  }
-  const std::string where = "external program '" + process->name() + "': handshake";
-  if (!h.is_object() || !h.contains("protocol") || !h["protocol"].is_number_integer())
-    throw std::runtime_error(where + ": no \"protocol\" version number");
-  if (h["protocol"].get<int>() != kProtocolVersion)
-    throw std::runtime_error(fmt::format("{}: protocol version {}, this cullproof speaks version {}", where,
-                                         h["protocol"].get<int>(), kProtocolVersion));
-  if (!h.contains("methods") || !h["methods"].is_array() || h["methods"].empty())
-    throw std::runtime_error(where + ": no \"methods\" array");
   std::vector<Method> out;
-  for (std::size_t i = 0; i < h["methods"].size(); ++i) {
-    const json& m = h["methods"][i];
-    const std::string at = fmt::format("{}, methods[{}]", where, i);
-    if (!m.is_object() || !m.contains("name") || !m["name"].is_string() || m["name"].get<std::string>().empty())
-      throw std::runtime_error(at + ": no \"name\"");
-    MethodInfo info;
-    info.name = m["name"].get<std::string>();
-    info.origin = Origin::user;
-    info.description = m.value("description", std::string("external program: ") + process->name());
-    info.source = m.value("source", process->name());
-    try {
-      info.claim = claim_from_string(m.value("claim", std::string("none")));
-    } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(at + ": " + e.what());
-    }
-    if (m.contains("tolerance") && !m["tolerance"].is_number()) throw std::runtime_error(at + ": \"tolerance\" is not a number");
-    info.tolerance = m.value("tolerance", 0.0);
-    info.volumes = kinds_of(m.contains("volumes") ? m["volumes"] : json(), at);
-    info.three_way = m.value("three_way", true);
-    info.stateful = m.value("stateful", false);
-    info.touching = m.value("touching", std::string());
+  for (protocol::OfferedMethod& offered : protocol::parse_handshake(handshakes[0], process->name())) {
+    MethodInfo info = std::move(offered.info);
     info.program = process->name();
-    const std::string origin = m.value("origin", std::string("user"));
-    if (origin == "published") info.origin = Origin::published;
-    else if (origin != "user")
-      throw std::runtime_error(at + ": \"origin\" " + json(origin).dump() + " is not \"user\" or \"published\"");
     auto e = std::make_shared<External>();
     e->processes = processes;
     e->method = info.name;
     e->stateful = info.stateful;
-    const std::string frustum = m.value("frustum", std::string("planes"));
-    if (frustum == "matrix") e->wants_matrix = true;
-    else if (frustum != "planes")
-      throw std::runtime_error(at + ": \"frustum\" " + json(frustum).dump() + " is not \"planes\" or \"matrix\"");
+    e->wants_matrix = offered.wants_matrix;
     Method method(
         info,
         [e](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> {

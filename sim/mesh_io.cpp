@@ -18,7 +18,8 @@
 namespace cullproof::sim {
 
 MeshError::MeshError(std::string file, int line, const std::string& problem)
-    : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + problem),
+    : std::runtime_error(printable_text(file) + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " +
+                         printable_text(problem)),
       file_(std::move(file)),
       line_(line) {}
 

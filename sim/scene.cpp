@@ -5,6 +5,7 @@
 
 #include "cullproof/case_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <system_error>
@@ -13,8 +14,12 @@ namespace cullproof::sim {
 
 using nlohmann::json;
 
+// The field (keys of the file) and the problem (which may quote its strings) are written through
+// printable_text: a NUL in them would cut the message short.
 SceneError::SceneError(std::string file, std::string field, const std::string& problem)
-    : std::runtime_error(file + ": " + field + ": " + problem), file_(std::move(file)), field_(std::move(field)) {}
+    : std::runtime_error(printable_text(file) + ": " + printable_text(field) + ": " + printable_text(problem)),
+      file_(std::move(file)),
+      field_(std::move(field)) {}
 
 std::string_view to_string(ProjectionKind k) noexcept {
   switch (k) {
@@ -393,29 +398,43 @@ SceneDesc parse_scene(const json& j, const std::string& source) {
   return s;
 }
 
+namespace {
+
+std::string limit_where(const InputLimitError& e) {
+  return e.line() > 0 ? "line " + std::to_string(e.line()) + ": " : std::string();
+}
+
+}  // namespace
+
+SceneDesc parse_scene_text(std::string_view text, const std::string& source) {
+  json j;
+  try {
+    if (text.size() > kMaxSceneFileBytes)
+      throw InputLimitError(0, "a text of " + std::to_string(text.size()) + " bytes, over the limit of " +
+                                   byte_count_text(kMaxSceneFileBytes) + " for a scene file");
+    check_line_lengths(text, kMaxSceneLineBytes, "a scene file");
+    j = parse_json_limited(text, kMaxSceneDepth, "a scene file");
+  } catch (const InputLimitError& e) {
+    throw SceneError(source, "<json>", limit_where(e) + e.what());
+  } catch (const json::parse_error& e) {
+    int line = 1;
+    for (std::size_t i = 0; i < std::min<std::size_t>(e.byte, text.size()); ++i) line += text[i] == '\n';
+    throw SceneError(source, "<json>", "line " + std::to_string(line) + ": " + e.what());
+  }
+  return parse_scene(j, source);
+}
+
 SceneDesc load_scene(const std::filesystem::path& file) {
   const std::string name = file.string();
-  auto where = [](const InputLimitError& e) { return e.line() > 0 ? "line " + std::to_string(e.line()) + ": " : std::string(); };
   std::string text;
   try {
     text = read_file_limited(file, kMaxSceneFileBytes, "a scene file");
   } catch (const InputLimitError& e) {
-    throw SceneError(name, "<file>", where(e) + e.what());
+    throw SceneError(name, "<file>", limit_where(e) + e.what());
   } catch (const std::system_error& e) {
     throw SceneError(name, "<file>", "cannot read the scene file: " + e.code().message());
   }
-  json j;
-  try {
-    check_line_lengths(text, kMaxSceneLineBytes, "a scene file");
-    j = parse_json_limited(text, kMaxSceneDepth, "a scene file");
-  } catch (const InputLimitError& e) {
-    throw SceneError(name, "<json>", where(e) + e.what());
-  } catch (const json::parse_error& e) {
-    int line = 1;
-    for (std::size_t i = 0; i < std::min<std::size_t>(e.byte, text.size()); ++i) line += text[i] == '\n';
-    throw SceneError(name, "<json>", "line " + std::to_string(line) + ": " + e.what());
-  }
-  return parse_scene(j, name);
+  return parse_scene_text(text, name);
 }
 
 }  // namespace cullproof::sim

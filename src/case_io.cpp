@@ -27,9 +27,35 @@ namespace cullproof {
 
 using nlohmann::json;
 
+std::string printable_text(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u >= 0x20 && u != 0x7f) {
+      out += ch;
+      continue;
+    }
+    switch (ch) {
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default: {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\u%04x", u);
+        out += buf;
+      }
+    }
+  }
+  return out;
+}
+
+// The message quotes the field and the problem through printable_text: both may hold text of the
+// input (a key, a string value), and a NUL in it would cut the message short.
 CaseError::CaseError(std::string file, int line, std::string field, const std::string& problem)
-    : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " +
-                         (field.empty() ? std::string() : "field '" + field + "': ") + problem),
+    : std::runtime_error(printable_text(file) + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " +
+                         (field.empty() ? std::string() : "field '" + printable_text(field) + "': ") +
+                         printable_text(problem)),
       file_(std::move(file)),
       line_(line),
       field_(std::move(field)) {}
@@ -48,8 +74,8 @@ float strtof_checked(const std::string& s) {
   errno = 0;
   char* end = nullptr;
   const float v = std::strtof(s.c_str(), &end);
-  if (end != s.c_str() + s.size()) throw std::invalid_argument("is not a number: \"" + s + "\"");
-  if (std::isinf(v)) throw std::invalid_argument("\"" + s + "\" overflows float");
+  if (end != s.c_str() + s.size()) throw std::invalid_argument("is not a number: \"" + printable_text(s) + "\"");
+  if (std::isinf(v)) throw std::invalid_argument("\"" + printable_text(s) + "\" overflows float");
   return v;
 }
 
@@ -62,7 +88,7 @@ float parse_case_float(std::string_view text, bool is_string) {
     const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
     if (r.ec == std::errc() && r.ptr == s.data() + s.size()) return v;
     if (r.ec == std::errc::result_out_of_range) return strtof_checked(s);
-    throw std::invalid_argument("is not a number: \"" + s + "\"");
+    throw std::invalid_argument("is not a number: \"" + printable_text(s) + "\"");
   }
   // C99 hexadecimal float: [+-]0x<hex digits>[.<hex digits>][p[+-]<decimal digits>]
   std::size_t i = 0;
@@ -85,7 +111,7 @@ float parse_case_float(std::string_view text, bool is_string) {
     }
   }
   if (!prefix || !digits || j != s.size())
-    throw std::invalid_argument("string \"" + s +
+    throw std::invalid_argument("string \"" + printable_text(s) +
                                 "\" is not a C99 hexadecimal float (e.g. \"0x1.8p+3\")");
   return strtof_checked(s);
 }
@@ -110,6 +136,8 @@ namespace {
 struct LineState {
   int line = 1;
   int token_line = 1;  // line of the last non-blank character consumed
+  const char* begin = nullptr;  // the text
+  const char* next = nullptr;   // the next character the parser will read
 };
 
 struct CountingIterator {
@@ -125,6 +153,7 @@ struct CountingIterator {
     if (*p == '\n') ++st->line;
     else if (!std::isspace(static_cast<unsigned char>(*p))) st->token_line = st->line;
     ++p;
+    st->next = p;
     return *this;
   }
   CountingIterator operator++(int) { CountingIterator t = *this; ++*this; return t; }
@@ -153,7 +182,12 @@ class Reader : public nlohmann::json_sax<json> {
 
   bool null() override { return put(json(nullptr), {}); }
   bool boolean(bool v) override { return put(json(v), {}); }
-  bool number_integer(number_integer_t v) override { return put(json(v), std::to_string(v)); }
+  bool number_integer(number_integer_t v) override {
+    // "-0" arrives as the integer 0: its sign is read from the text, so that it is -0.0f as the
+    // case format says (and as format_float writes it), and a free field keeps it as -0.0.
+    if (v == 0 && negative_zero()) return put(json(-0.0), "-0");
+    return put(json(v), std::to_string(v));
+  }
   bool number_unsigned(number_unsigned_t v) override { return put(json(v), std::to_string(v)); }
   bool number_float(number_float_t v, const string_t& s) override { return put(json(v), s); }
   bool string(string_t& v) override { return put(json(v), {}); }
@@ -162,6 +196,15 @@ class Reader : public nlohmann::json_sax<json> {
   bool end_object() override { stack_.pop_back(); return true; }
   bool start_array(std::size_t) override { return open(json::array()); }
   bool end_array() override { stack_.pop_back(); return true; }
+  // Whether the integer token just read is "-0". nlohmann's lexer reads one character past a
+  // number (its end), except at the end of the text; the token is "0" or "-0" (JSON allows no
+  // other spelling of an integer zero).
+  bool negative_zero() const {
+    const char* q = st_->next;
+    if (q == nullptr || q <= st_->begin) return false;
+    if (q[-1] != '0') --q;  // the character that ended the number
+    return q - st_->begin >= 2 && q[-1] == '0' && q[-2] == '-';
+  }
   bool key(string_t& k) override {
     Frame& f = stack_.back();
     if (f.node->contains(k)) throw CaseError(source_, st_->token_line, join(full_path(), k), "duplicate field");
@@ -174,6 +217,11 @@ class Reader : public nlohmann::json_sax<json> {
     // keep the part after the bracket tag, and name our own line.
     const auto pos = msg.find("] ");
     if (pos != std::string::npos) msg = msg.substr(pos + 2);
+    // "parse error at line L, column C: ..." counts lines from the start of this case, not of the
+    // file: keep the column beside the file's line.
+    const std::string at = "parse error at line ";
+    const auto column = msg.find(", column ");
+    if (msg.compare(0, at.size(), at) == 0 && column != std::string::npos) msg = msg.substr(column + 2);
     throw CaseError(source_, st_->line, "", "invalid JSON: " + msg);
   }
 
@@ -261,11 +309,9 @@ class CaseParser {
     c.volume = parse_volume(need(root, "", "volume"), "volume");
     if (root.contains("truth")) {
       const std::string t = get_string(root, "", "truth");
-      try {
-        c.truth = visibility_from_string(t);
-      } catch (const std::invalid_argument& e) {
-        fail("truth", e.what());
-      }
+      if (t != "outside" && t != "intersecting" && t != "inside")
+        fail("truth", "unknown visibility \"" + t + "\" (expected outside, intersecting or inside)");
+      c.truth = visibility_from_string(t);
     }
     if (root.contains("note")) c.note = get_string(root, "", "note");
     for (auto it = root.begin(); it != root.end(); ++it) {
@@ -493,7 +539,16 @@ json parse_json_limited(std::string_view text, int max_depth, std::string_view w
                                                ", the limit for " + std::string(what));
     return true;
   };
-  return json::parse(b, e, within);
+  try {
+    return json::parse(b, e, within);
+  } catch (const json::out_of_range& ex) {
+    // The one error of nlohmann's parser that is not a parse_error: a number past the range of a
+    // double ("1e999"), which it cannot hold. Reported like a limit, at the number's line.
+    std::string msg = ex.what();
+    const auto pos = msg.find("] ");
+    if (pos != std::string::npos) msg = msg.substr(pos + 2);
+    throw InputLimitError(st.token_line, "a number beyond the range of a double (" + msg + ")");
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -506,10 +561,13 @@ Case parse_case(std::string_view text, std::string_view source, int first_line) 
                         byte_count_text(kMaxCaseBytes) + " for one case (a line of JSON Lines, or a one-case file)");
   LineState st;
   st.line = st.token_line = first_line;
+  st.begin = st.next = text.data();
   Reader reader{std::string(source), &st};
   CountingIterator b{text.data(), &st}, e{text.data() + text.size(), &st};
   json::sax_parse(b, e, &reader);
-  return CaseParser(reader, std::string(source)).parse();
+  Case c = CaseParser(reader, std::string(source)).parse();
+  c.line = first_line;
+  return c;
 }
 
 Case read_case_file(const std::filesystem::path& file) {
@@ -517,22 +575,29 @@ Case read_case_file(const std::filesystem::path& file) {
   return parse_case(text, file.string(), 1);
 }
 
-std::vector<Case> read_cases_jsonl(const std::filesystem::path& file) {
-  const std::string text = read_case_text(file, kMaxCaseFileBytes, "a JSON Lines case file");
+std::vector<Case> parse_cases_jsonl(std::string_view text, std::string_view source) {
+  if (text.size() > kMaxCaseFileBytes)
+    throw CaseError(std::string(source), 0, "",
+                    "a text of " + std::to_string(text.size()) + " bytes, over the limit of " +
+                        byte_count_text(kMaxCaseFileBytes) + " for a JSON Lines case file");
   std::vector<Case> out;
   std::size_t pos = 0;
   int line = 1;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
+    if (end == std::string_view::npos) end = text.size();
     const std::string_view l(text.data() + pos, end - pos);
     bool blank = true;
     for (char ch : l) blank = blank && std::isspace(static_cast<unsigned char>(ch));
-    if (!blank) out.push_back(parse_case(l, file.string(), line));
+    if (!blank) out.push_back(parse_case(l, source, line));
     pos = end + 1;
     ++line;
   }
   return out;
+}
+
+std::vector<Case> read_cases_jsonl(const std::filesystem::path& file) {
+  return parse_cases_jsonl(read_case_text(file, kMaxCaseFileBytes, "a JSON Lines case file"), file.string());
 }
 
 std::vector<Case> read_cases(const std::filesystem::path& file) {
@@ -604,49 +669,94 @@ std::string format_case(const Case& c, bool pretty) {
   return s;
 }
 
-void write_file_atomic(const std::filesystem::path& file, std::string_view text, bool overwrite) {
-  namespace fs = std::filesystem;
-  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
-  fs::create_directories(dir);
-  if (!overwrite && fs::exists(file))
-    throw std::runtime_error(file.string() + ": exists already; not overwritten");
-  // A unique temporary name in the same directory, so rename() is atomic on POSIX.
-  std::random_device rd;
-  const fs::path tmp = dir / ("." + file.filename().string() + ".tmp-" + std::to_string(::getpid()) +
-                              "-" + std::to_string(rd()));
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
-  if (fd < 0) throw std::runtime_error(tmp.string() + ": cannot create: " + std::strerror(errno));
+namespace {
+
+// Writes all of `text` to `fd`; false (errno set) when the system refuses some of it.
+bool write_all(int fd, std::string_view text) {
   std::size_t done = 0;
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const std::string err = std::strerror(errno);
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw std::runtime_error(tmp.string() + ": write failed: " + err);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = EIO;
+      return false;
     }
     done += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    const std::string err = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(tmp.string() + ": flush failed: " + err);
+  return true;
+}
+
+[[noreturn]] void cannot_write(const std::filesystem::path& file, const std::string& why) {
+  throw std::runtime_error(file.string() + ": cannot write: " + why);
+}
+
+}  // namespace
+
+void write_file_atomic(const std::filesystem::path& file, std::string_view text, bool overwrite) {
+  namespace fs = std::filesystem;
+  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) cannot_write(file, "cannot create its directory " + dir.string() + ": " + ec.message());
+  struct stat st{};
+  if (::stat(file.c_str(), &st) == 0) {
+    if (!overwrite) throw std::runtime_error(file.string() + ": exists already; not overwritten");
+    if (!S_ISREG(st.st_mode)) {
+      // A device or a pipe (/dev/stdout): renaming over it would replace it, so it is written as
+      // it is; there is no partial file to leave behind.
+      const int fd = ::open(file.c_str(), O_WRONLY | O_CLOEXEC);
+      if (fd < 0) cannot_write(file, std::strerror(errno));
+      const bool ok = write_all(fd, text);
+      const int err = errno;
+      if (::close(fd) != 0 && ok) cannot_write(file, std::strerror(errno));
+      if (!ok) cannot_write(file, std::strerror(err));
+      return;
+    }
   }
+  // A unique temporary name in the same directory, so rename() is atomic on POSIX. Hidden and not
+  // ending in ".json": should the process die before the rename, no reader takes it for a case.
+  std::random_device rd;
+  const fs::path tmp = dir / ("." + file.filename().string() + ".tmp-" + std::to_string(::getpid()) +
+                              "-" + std::to_string(rd()));
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) cannot_write(file, std::string(std::strerror(errno)) + " (creating " + tmp.filename().string() + " in " + dir.string() + ")");
+  // From here every failure removes the temporary file: nothing half-written is left behind.
+  auto fail = [&](const std::string& why) {
+    ::unlink(tmp.c_str());
+    cannot_write(file, why + "; nothing was written");
+  };
+  if (!write_all(fd, text)) {
+    const std::string err = std::strerror(errno);
+    ::close(fd);
+    fail(err);
+  }
+  if (::fsync(fd) != 0) {
+    const std::string err = std::strerror(errno);
+    ::close(fd);
+    fail(err);
+  }
+  if (::close(fd) != 0) fail(std::strerror(errno));
   if (!overwrite) {
     // link() fails if the target exists: no window in which another writer's file is replaced.
     if (::link(tmp.c_str(), file.c_str()) != 0) {
-      const std::string err = std::strerror(errno);
-      ::unlink(tmp.c_str());
-      throw std::runtime_error(file.string() + ": not written: " + err);
+      if (errno == EEXIST) {
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(file.string() + ": exists already; not overwritten");
+      }
+      fail(std::strerror(errno));
     }
     ::unlink(tmp.c_str());
-    return;
+  } else if (::rename(tmp.c_str(), file.c_str()) != 0) {
+    fail(std::strerror(errno));
   }
-  if (::rename(tmp.c_str(), file.c_str()) != 0) {
-    const std::string err = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(file.string() + ": rename failed: " + err);
+  // The new name is durable once its directory is flushed too.
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    const bool synced = ::fsync(dfd) == 0;
+    const int err = errno;
+    ::close(dfd);
+    if (!synced && err != EINVAL)
+      throw std::runtime_error(file.string() + ": written, but its directory could not be flushed: " + std::strerror(err));
   }
 }
 

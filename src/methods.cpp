@@ -1,5 +1,5 @@
-// Methods: names of claims and origins, the Method type, and the built-in registry (the
-// families register themselves; names are checked to be unique).
+// Methods: the Method type and the built-in registry (the families register themselves; names
+// are checked to be unique). The names of claims and origins are in claims.cpp.
 #include "cullproof/methods.hpp"
 
 #include "builtin.hpp"
@@ -8,33 +8,6 @@
 #include <stdexcept>
 
 namespace cullproof {
-
-std::string_view to_string(Claim c) noexcept {
-  switch (c) {
-    case Claim::certified_conservative: return "certified-conservative";
-    case Claim::certified_exact: return "certified-exact";
-    case Claim::conservative: return "conservative";
-    case Claim::exact: return "exact";
-    case Claim::none: return "none";
-  }
-  return "invalid";
-}
-
-Claim claim_from_string(std::string_view s) {
-  for (Claim c : {Claim::certified_conservative, Claim::certified_exact, Claim::conservative, Claim::exact, Claim::none})
-    if (to_string(c) == s) return c;
-  throw std::invalid_argument("unknown claim '" + std::string(s) +
-                              "' (known: certified-conservative, certified-exact, conservative, exact, none)");
-}
-
-std::string_view to_string(Origin o) noexcept {
-  switch (o) {
-    case Origin::published: return "published";
-    case Origin::own: return "own";
-    case Origin::user: return "user";
-  }
-  return "invalid";
-}
 
 Method::Method(MethodInfo info, Prepare prepare, bool batch)
     : MethodInfo(std::move(info)), prepare_(std::move(prepare)), batch_(batch) {

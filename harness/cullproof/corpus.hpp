@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace cullproof {
@@ -30,11 +31,20 @@ struct CorpusEntry {
 /// 12 hex digits identifying the geometry (FNV-1a of the canonical frustum and volume text).
 std::string geometry_hash(const CaseFrustum& f, const Volume& v);
 /// The mismatch case files under `dir` (every *.json, sorted by path), leaving out the scene
-/// directories corpus/scenes/ and corpus/scenes-*/.
+/// directories corpus/scenes/ and corpus/scenes-*/ and the fault records under corpus/faults/.
+/// The temporary file a writer killed mid-write may leave (".<name>.tmp-<pid>-<n>", see
+/// write_file_atomic) does not end in ".json" and is not listed.
 std::vector<std::filesystem::path> corpus_case_files(const std::filesystem::path& dir);
 /// Reads every case file under `dir` (corpus_case_files). Throws CaseError for a malformed file and
 /// std::runtime_error for a file that lacks the mismatch record (naming the file and field).
 std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir);
+/// The mismatch record of a case read from `file`: its truth, method, verdict, class and
+/// distribution, and its camera path if it has one. Throws std::runtime_error naming the file and
+/// the field that is missing or wrong.
+CorpusEntry corpus_entry(Case c, const std::filesystem::path& file);
+/// A corpus file's text as load_corpus reads it (parse_case, then corpus_entry). Throws CaseError
+/// or std::runtime_error naming `file`.
+CorpusEntry parse_corpus_entry(std::string_view text, const std::filesystem::path& file);
 
 /// Outcome of replaying one corpus entry.
 struct ReplayResult {

@@ -23,6 +23,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 #include <string_view>
 
@@ -205,8 +206,12 @@ struct SceneDesc {
 /// non-positive size/count/frame count, near >= far, fov outside (0, 180), an unknown model
 /// reference, a moving group or instance out of range, keyframes not increasing.
 SceneDesc parse_scene(const nlohmann::json& j, const std::string& source = "<scene>");
-/// Reads a scene file (parse errors name the file and line). Throws SceneError, also for a file
-/// past kMaxSceneFileBytes, a line past kMaxSceneLineBytes or nesting past kMaxSceneDepth.
+/// Parses and validates the text of a scene file (parse errors name `source` and the line). Throws
+/// SceneError, also for text past kMaxSceneFileBytes, a line past kMaxSceneLineBytes or nesting past
+/// kMaxSceneDepth.
+SceneDesc parse_scene_text(std::string_view text, const std::string& source = "<scene>");
+/// Reads a scene file (parse_scene_text). Throws SceneError, also for a file that cannot be read or
+/// is past kMaxSceneFileBytes.
 SceneDesc load_scene(const std::filesystem::path& file);
 
 // ---------------------------------------------------------------------------------------------

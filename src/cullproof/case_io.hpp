@@ -46,6 +46,9 @@ struct Case {
   std::optional<Visibility> truth;
   std::string note;
   nlohmann::json extra = nlohmann::json::object();  ///< verdicts, witness, distance, seed, ...
+  /// The line the case starts on in the text it was read from (1 for a one-case file; 0 for a case
+  /// that was not read), for messages about the case after reading. Not written by format_case.
+  int line = 0;
 };
 
 /// Error in a case file: where (file, 1-based line; 0 when it is about the file as a whole, as its
@@ -70,7 +73,11 @@ Case parse_case(std::string_view text, std::string_view source = "<input>", int 
 /// Reads a file holding one case (any layout), of at most kMaxCaseBytes. Throws CaseError (or
 /// std::system_error when the file cannot be read).
 Case read_case_file(const std::filesystem::path& file);
-/// Reads JSON Lines: one case per non-blank line, a file of at most kMaxCaseFileBytes. Throws
+/// Parses JSON Lines text: one case per non-blank line, each of at most kMaxCaseBytes, the whole of
+/// at most kMaxCaseFileBytes. `source` names the file in errors. Throws CaseError at the first bad
+/// line (no case of the text is returned then).
+std::vector<Case> parse_cases_jsonl(std::string_view text, std::string_view source = "<input>");
+/// Reads JSON Lines (parse_cases_jsonl) from a file of at most kMaxCaseFileBytes. Throws
 /// CaseError at the first bad line (or std::system_error when the file cannot be read).
 std::vector<Case> read_cases_jsonl(const std::filesystem::path& file);
 /// ".jsonl" files as JSON Lines, anything else as one case.
@@ -87,11 +94,19 @@ std::string format_hex_float(float x);
 
 /// Serialises a case. `pretty` gives the multi-line corpus layout; otherwise one line (JSONL).
 std::string format_case(const Case& c, bool pretty = false);
-/// Writes one case to `file` atomically: a temporary file in the same directory, flushed and
-/// renamed over the target, so a reader (or a crash) never sees a partial file. With
-/// `overwrite == false`, an existing file is left untouched and std::runtime_error is thrown.
+/// Writes one case to `file` atomically (write_file_atomic).
 void write_case_file(const std::filesystem::path& file, const Case& c, bool overwrite = true);
-/// Writes arbitrary text atomically (same guarantees as write_case_file).
+/// Writes `text` to `file` atomically: into a temporary file in the same directory (created with
+/// its missing parents), flushed to disk, then renamed over the target and the directory flushed,
+/// so a reader, a crash or a kill never sees a partial file: the target is the old file or the
+/// whole new one. A write that fails (a full disk, a read-only or missing directory) throws
+/// std::runtime_error "<file>: cannot write: <reason>" and leaves the target as it was and no
+/// temporary file. A process killed while writing can leave only its temporary file, named
+/// ".<name>.tmp-<pid>-<n>": hidden, and not ending in ".json", so no reader takes it for a case.
+/// With `overwrite == false` an existing target is left untouched and std::runtime_error is
+/// thrown ("<file>: exists already"), also when another writer creates it meanwhile (link(), not
+/// rename()). An existing target that is not a regular file (a device or a pipe, as /dev/stdout)
+/// is written in place, since renaming over it would replace it.
 void write_file_atomic(const std::filesystem::path& file, std::string_view text, bool overwrite = true);
 
 // ---- Bounded reading, for every reader of JSON from outside (case files, scene files, the
@@ -109,6 +124,9 @@ class InputLimitError : public std::runtime_error {
   int line_;
 };
 
+/// `text` as an error message may quote it: control characters (a NUL would end the message
+/// where it stands) written as JSON escapes ("\n", "\u0000"), everything else as it is.
+std::string printable_text(std::string_view text);
 /// "1048576 bytes (1 MiB)": a byte count as the limits' messages give it.
 std::string byte_count_text(std::uintmax_t n);
 /// The whole of `file`, at most `max_bytes` of it. A regular file larger than that is refused by
@@ -121,8 +139,9 @@ std::string read_file_limited(const std::filesystem::path& file, std::uintmax_t 
 void check_line_lengths(std::string_view text, std::size_t max_bytes, std::string_view what);
 /// Parses JSON text into a document, refusing nesting of arrays and objects deeper than
 /// `max_depth` as soon as the parser opens the first container past it (nlohmann's parser
-/// callback), before the document grows. Throws InputLimitError (with the line) for that, and
-/// nlohmann::json::parse_error for text that is not JSON.
+/// callback), before the document grows. Throws InputLimitError (with the line) for that and for
+/// a number past the range of a double ("1e999"), and nlohmann::json::parse_error for text that is
+/// not JSON.
 nlohmann::json parse_json_limited(std::string_view text, int max_depth, std::string_view what);
 
 /// The volume as the case-format JSON object ({"aabb": ...} etc.), numbers as shortest decimals.

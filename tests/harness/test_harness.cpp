@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 using namespace cullproof;
 using V = Visibility;
@@ -196,5 +197,34 @@ TEST(Corpus, AFilePastTheCaseLimitsIsRefusedNamingIt) {
   EXPECT_EQ(refusal(), file.string() + ":1: arrays and objects nested deeper than 64, the limit for one case");
   std::filesystem::resize_file(file, kMaxCaseBytes + 1);
   EXPECT_EQ(refusal(), file.string() + ": a file of 1048577 bytes, over the limit of 1048576 bytes (1 MiB) for a one-case file");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Corpus, FaultRecordsAndTemporaryFilesAreNotCases) {
+  // A run that faulted saves its case under faults/ (no truth, no verdict); a writer killed
+  // mid-write leaves its hidden temporary file. The corpus reader reads neither as a case.
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-corpus-litter-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const auto real = std::filesystem::path(CULLPROOF_CORPUS_DIR) / "hoff96";
+  std::filesystem::path one;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(real))
+    if (e.path().extension() == ".json") one = e.path();
+  ASSERT_FALSE(one.empty());
+  const auto kept = dir / "hoff96" / "rod" / one.filename();
+  std::filesystem::create_directories(kept.parent_path());
+  std::filesystem::copy_file(one, kept);
+  std::filesystem::create_directories(dir / "faults" / "my-culler");
+  std::ofstream(dir / "faults" / "my-culler" / "0123456789ab.json") << R"({"id": "f", "fault": "threw"})";
+  std::ofstream(kept.parent_path() / ("." + one.filename().string() + ".tmp-123-456")) << "{\"id\": \"half";
+  const std::vector<CorpusEntry> entries = load_corpus(dir);
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_EQ(entries[0].file, kept);
+  // The record reader on text reads the same record.
+  std::ifstream in(kept);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(format_case(parse_corpus_entry(text, kept).c, true), format_case(entries[0].c, true));
+  EXPECT_THROW(parse_corpus_entry(R"({"id": "x", "frustum": {"planes": [[1,0,0,0],[1,0,0,0],[1,0,0,0],[1,0,0,0],[1,0,0,0],[1,0,0,0]]},
+                                     "volume": {"point": [0,0,0]}, "truth": "inside"})", "x.json"),
+               std::runtime_error);
   std::filesystem::remove_all(dir);
 }

@@ -4,6 +4,7 @@
 // order are each stopped with the documented error and the case saved.
 #include "cullproof/campaign.hpp"
 #include "cullproof/external.hpp"
+#include "cullproof/protocol.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -253,6 +254,59 @@ TEST(Protocol, FrustaAtTheEndsOfTheFloatRangeArriveAsTheyAre) {
     EXPECT_EQ(a.false_inside, b.false_inside) << gen::to_string(d.distribution);
     EXPECT_EQ(a.false_intersect, b.false_intersect) << gen::to_string(d.distribution);
     EXPECT_EQ(a.under_inside, b.under_inside) << gen::to_string(d.distribution);
+  }
+}
+
+// The readers of a program's lines, on text (cullproof/protocol.hpp): every field of a handshake
+// is checked for its type, so a handshake of the wrong shape is refused naming the field, never
+// with the JSON library's type error.
+std::string handshake_error(const std::string& line) {
+  try {
+    protocol::parse_handshake(line, "prog");
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(ProtocolReader, AHandshakeOfTheWrongShapeIsRefusedNamingTheField) {
+  const std::string ok = R"({"name": "m", "volumes": ["aabb"])";
+  auto with = [&](const std::string& more) { return R"({"protocol": 1, "methods": [)" + ok + more + "}]}"; };
+  EXPECT_EQ(handshake_error(with("")), "accepted");
+  EXPECT_EQ(handshake_error(with(R"(, "description": 5)")),
+            "external program 'prog': handshake, methods[0]: \"description\" 5 is not a string");
+  EXPECT_EQ(handshake_error(with(R"(, "three_way": "yes")")),
+            "external program 'prog': handshake, methods[0]: \"three_way\" \"yes\" is not true or false");
+  EXPECT_EQ(handshake_error(with(R"(, "tolerance": -1e-6)")),
+            "external program 'prog': handshake, methods[0]: \"tolerance\" -1e-06 is not a number >= 0");
+  EXPECT_EQ(handshake_error(with(R"(, "claim": "sound\u0000")")),
+            "external program 'prog': handshake, methods[0]: \"claim\" \"sound\\u0000\" is not a claim "
+            "(certified-conservative, certified-exact, conservative, exact, none)");
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [)" + ok + "}, " + ok + "}]}"),
+            "external program 'prog': handshake, methods[1]: \"name\" \"m\" is offered twice");
+  // 2^32 + 1 is not version 1, however an int would hold it.
+  EXPECT_EQ(handshake_error(R"({"protocol": 4294967297, "methods": [)" + ok + "}]}"),
+            "external program 'prog': handshake: protocol version 4294967297, this cullproof speaks version 1");
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": [1e999]}]})"),
+            "external program 'prog': its handshake has a number beyond the range of a double (number overflow parsing "
+            "'1e999'): {\"protocol\": 1, \"methods\": [{\"name\": \"m\", \"volumes\": [1e999]}]}");
+}
+
+TEST(ProtocolReader, AnAnswerIsReadOrRefusedNamingTheFrame) {
+  const protocol::Reply r = protocol::parse_answer(R"({"frame": 4, "verdicts": ["inside", null], "ns": 12.5})", 4, 2, "frame 4");
+  ASSERT_EQ(r.verdicts.size(), 2u);
+  EXPECT_EQ(r.verdicts[0], Visibility::inside);
+  EXPECT_FALSE(r.verdicts[1].has_value());
+  EXPECT_EQ(r.ns, 12.5);
+  std::string raw = "{\"frame\": 4, \"verdicts\": [\"in";
+  raw += '\0';
+  raw += "side\"]}\x01";  // control characters, raw: not JSON, and quoted escaped
+  try {
+    protocol::parse_answer(raw, 4, 1, "frame 4");
+    FAIL() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "answered frame 4 with a line that is not JSON: {\"frame\": 4, \"verdicts\": "
+                                     "[\"in\\u0000side\"]}\\u0001");
   }
 }
 

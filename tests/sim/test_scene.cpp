@@ -139,6 +139,29 @@ TEST(SceneFile, JsonSyntaxErrorNamesFileAndLine) {
   EXPECT_THROW(load_scene(temp_dir() / "no-such-scene.json"), SceneError);
 }
 
+// Both found by fuzzing (tests/fuzz/regressions/scene_reader): a number past a double's range got
+// through as the JSON library's own error, naming neither file nor line; a key holding a NUL cut
+// the message off after the file name.
+TEST(SceneFile, ANumberPastADoublesRangeNamesFileAndLine) {
+  try {
+    parse_scene_text("{\n  \"format\": 1e999\n}", "big.json");
+    FAIL() << "accepted 1e999";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "big.json: <json>: line 2: a number beyond the range of a double (number overflow "
+                                     "parsing '1e999')");
+  }
+}
+TEST(SceneFile, AKeyHoldingANulIsQuotedWhole) {
+  json j = valid_scene();
+  j[std::string("\0hierarchy", 10)] = 1;
+  try {
+    parse_scene(j, "nul.json");
+    FAIL() << "accepted an unknown key";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("nul.json: \\u0000hierarchy: unknown field (known: format,", 0), 0u) << e.what();
+  }
+}
+
 // The SceneError load_scene(p) throws; fails the test when it throws none.
 SceneError scene_error(const std::filesystem::path& p) {
   try {

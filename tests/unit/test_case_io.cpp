@@ -178,6 +178,35 @@ TEST(CaseErrors, DuplicateFieldAndWrongTypes) {
   EXPECT_EQ(error_of("[1, 2]"), "cases.jsonl:1: a case must be a JSON object");
 }
 
+// Found by fuzzing (tests/fuzz/regressions/case_reader): JSON reads "-0" as the integer 0, and the
+// reader took its text from the integer, so the -0 that format_float writes read back as +0.
+TEST(CaseRead, NegativeZeroKeepsItsSign) {
+  const std::string text = std::string("{\"id\": \"z\", ") + kPlanes +
+                           R"(, "volume": {"point": [-0, 0, -0]}, "free": [-0, 0, -0.0])" + "}";
+  const Case c = parse_case(text);
+  const Point p = std::get<Point>(c.volume);
+  EXPECT_TRUE(std::signbit(p.x));
+  EXPECT_FALSE(std::signbit(p.y));
+  EXPECT_TRUE(std::signbit(p.z));
+  EXPECT_EQ(c.extra["free"].dump(), "[-0.0,0,-0.0]");
+  EXPECT_EQ(format_float(-0.0f), "-0");
+  const Case d = parse_case(format_case(c));
+  EXPECT_EQ(bits(std::get<Point>(d.volume).x), bits(-0.0f));
+  EXPECT_EQ(format_case(d), format_case(c));
+  // At the end of the text and before white space alike.
+  EXPECT_TRUE(std::signbit(std::get<Point>(parse_case(with_volume(R"({"point": [0, 0, -0 ]})")).volume).z));
+  // Found by fuzzing too: a key or a string holding a NUL is quoted escaped, not cut off there.
+  const std::string nul = error_of(with_volume(R"({"point": [0, 0, 0]})", ", \"x\\u0000y\": 1, \"x\\u0000y\": 2"));
+  EXPECT_EQ(nul, "cases.jsonl:1: field 'x\\u0000y': duplicate field");
+  EXPECT_NE(error_of(with_volume(R"({"point": [0, "0x1\u0000", 0]})")).find("string \"0x1\\u0000\" is not a C99"),
+            std::string::npos);
+}
+
+TEST(CaseErrors, ASyntaxErrorNamesTheFilesLineAndTheColumn) {
+  EXPECT_EQ(error_of("{\"id\": }", 7), "cases.jsonl:7: invalid JSON: column 8: syntax error while parsing value - unexpected '}'; "
+                                       "expected '[', '{', or a literal");
+}
+
 TEST(CaseErrors, LineOfTheFieldInAMultiLineFile) {
   const std::string text = std::string("{\n  \"id\": \"t\",\n  ") + kPlanes +
                            ",\n  \"volume\": {\"sphere\": {\n    \"center\": [0, 0, 0],\n    \"radius\": -2\n  }}\n}\n";
