@@ -4,6 +4,7 @@
 #include "builtin.hpp"
 #include "cullproof/certified.hpp"
 #include "cullproof/certified_batch.hpp"
+#include "cullproof/exact_certified.hpp"
 
 #include <vector>
 
@@ -34,6 +35,19 @@ const auto sphere_kernel = [](const CertifiedFrustum& f) {
     certified_cull_spheres_bitset(f, s, vis, ins);
   };
 };
+
+const auto exact_frustum = [](const CaseFrustum& f) { return prepare_exact_certified(f); };
+
+describe exact_certified(std::string name, std::string description, unsigned volumes) {
+  describe d(std::move(name), Origin::own);
+  d.as(std::move(description))
+      .from("Assarsson & Möller 2000 §3.1 and Gottschalk, Lin & Manocha 1996 §4 as Farkas combinations, each "
+            "stage's bound derived in src/certified/exact_certified.cpp; exact stage in integers "
+            "(src/certified/exact_decide.cpp)")
+      .claims(Claim::certified_exact, 0.0);
+  d.on(volumes).touching("exact: touching from outside is intersecting, from inside inside (decided exactly)");
+  return d;
+}
 
 }  // namespace
 
@@ -75,6 +89,38 @@ void register_certified_methods(std::vector<Method>& out) {
       certified_frustum,
       overload{[](const CertifiedFrustum& f, const Aabb& a) { return certified_sat(f, to_obb(a)); },
                [](const CertifiedFrustum& f, const Obb& b) { return certified_sat(f, b); }}));
+  out.push_back(make_method(
+      exact_certified("aabb-exact-certified",
+                      "the exact verdict: certified n/p-vertex test, certified separating combinations and witness "
+                      "points, then exact integers for what lies within the bounds",
+                      kAabbKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Aabb& b) { return exact_certified_aabb(f, b); }));
+  out.push_back(make_method(
+      exact_certified("obb-exact-certified",
+                      "the exact verdict: certified projected-radius test, certified separating combinations and "
+                      "witness points, then exact integers",
+                      kObbKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Obb& b) { return exact_certified_obb(f, b); }));
+  out.push_back(make_method(
+      exact_certified("sphere-exact-certified",
+                      "the exact verdict: certified r |n| test, certified distances to the frustum's faces, edges "
+                      "and corners, then exact integers",
+                      kSphereKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Sphere& s) { return exact_certified_sphere(f, s); }));
+  out.push_back(make_method(
+      exact_certified("aabb-batch-exact-certified",
+                      "array form of aabb-exact-certified: the SIMD certified batch first, the cascade for the rest",
+                      kAabbKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Aabb& b) { return exact_certified_aabb(f, b); },
+      [](const ExactCertifiedFrustum& f, const Aabb* b, std::size_t n, Visibility* v) { exact_certified_aabbs(f, b, n, v); }));
+  out.push_back(make_method(
+      exact_certified("sphere-batch-exact-certified",
+                      "array form of sphere-exact-certified: the SIMD certified batch first, the cascade for the rest",
+                      kSphereKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Sphere& s) { return exact_certified_sphere(f, s); },
+      [](const ExactCertifiedFrustum& f, const Sphere* s, std::size_t n, Visibility* v) {
+        exact_certified_spheres(f, s, n, v);
+      }));
 }
 
 }  // namespace cullproof::detail
