@@ -20,20 +20,27 @@
 // twice; the gamma_k of a sum of k terms covers both).
 //
 // ---- Stage 1: planes ----------------------------------------------------------------------------
-// Boxes (AABB). For scaled plane (n', d') and a float point p with |p_i| <= M, the computed
-// v = fl(n'.p + D) (D = d_out or d_in, the offset with the constant part of the margin folded in)
-// satisfies |v - (n'.p + D)| <= gamma_4 (A' M + |D|) (Higham (3.4)), and the true scaled plane
-// S' = n.p 2^-e + d 2^-e satisfies |n'.p + d' - S'| <= u (A' M + |d'|). With
-// d_out >= d' + delta, d_in <= d' - delta, delta = kBox u |d'|, T = fl(t_box M) >= 8 u (1 - u) A' M:
-//   v(d_out) < -T  =>  S' <= v + gamma_4 (A' M + |d'| + 2 delta) + u (A' M + |d'|) - delta < 0,
-// since T >= (gamma_4 + u) A' M and delta (1 - gamma_4) >= (gamma_4 (1 + 2^-40) + u) |d'|; the
-// inside test v(d_in) >= T => S' > 0 is the mirror image. kBox = 8 > 5.0001 needed.
-// At the p-vertex: v(d_out) < -T proves the box outside the plane; v(d_in) >= T proves the p-vertex
-// inside it. At the n-vertex: v(d_in) >= T proves the box inside the plane, v(d_out) < -T proves it
-// crosses the plane. The p- and n-vertices are chosen by the sign of n'_i, which is that of the
-// true n_i (a rounded value has the sign of the exact one, and is zero only when that is zero).
-// A box that lies in every plane but one, k, and crosses k with its p-vertex inside k meets the
-// frustum at that p-vertex: intersecting.
+// Boxes (AABB), in centre-extent form: c = fl((lo + hi) / 2), h = fl((hi - lo) / 2) (one rounding
+// each), and for scaled plane (n', d') the p- and n-vertex values are n'.c + d +- sum |n'_i h_i|
+// (no choice of vertex per axis). The computed v = fl(n'.c + D +- sum |n'_i h_i|), D = d_out or
+// d_in (the offset with the constant part of the margin folded in), is a seven-term inner
+// product: |v - (its exact value)| <= gamma_7 (A' M (1 + u) + |D|) (Higham (3.4); |c_i| + h_i <=
+// max(|lo_i|, |hi_i|) (1 + u) <= M (1 + u)). Rounding c and h moves the value by at most u A' M; the
+// true scaled plane differs from (n', d') by at most u (A' M + |d'|). With d_out >= d' + delta,
+// d_in <= d' - delta, delta = kBox u |d'| and T = fl(t_box M) >= kBox u (1 - u) A' M:
+//   v(d_out) < -T  =>  the true maximum over the box is < 0 (the box is outside the plane),
+// since T >= (gamma_7 (1 + u) + 2u) A' M (9.0002 u < kBox = 16 u) and delta (1 - gamma_7) >=
+// (gamma_7 (1 + kBox u)(1 + 2u) + u) |d'|; v(d_in) >= T => the true minimum > 0 (inside) is the
+// mirror image, and likewise the maximum with d_in (the p-vertex is inside the plane) and the
+// minimum with d_out (the box crosses the plane). The p-vertex is the corner on the side of
+// sign(n'_i) per axis, which is that of the true n_i (a rounded value has the sign of the exact
+// one, and is zero only when that is zero). A box that lies in every plane but those of a set J,
+// crosses one of them, and has its p-vertex inside each plane of J, where the normals of J agree
+// in sign on every axis (so that the p-vertices coincide), meets the frustum there: intersecting.
+// OBBs: e_i = h_i u_i is exact in double; s = fl(n'.c) within gamma_3 A' M_c, rad = sum
+// |fl(n'.e_i)| within (gamma_3 + gamma_2) A' H (H = sum h_i max_k |u_ik|), two more additions
+// (gamma_2) and the coefficients (u): at most 8.0002 u A' (M_c + H) + 3.0001 u |d'|, covered by the
+// same kBox with X = M_c + H in place of M.
 //
 // Spheres. v_out = fl(n'.c + d_out + rho), v_in = fl(n'.c + d_in - rho), rho = fl(r norm'):
 // |norm' - |n 2^-e|| <= 3.501 u norm' (a sum of three squares, gamma_3, a square root, u, and
@@ -44,35 +51,37 @@
 // (8 > 6.0001 / (1 - gamma_5)). The centre alone is inside plane k when fl(n'.c + d_in) >= T
 // (the same bound with r = 0).
 //
-// OBBs and stage 2 rows. A box is c + sum t_i e_i, t in [-1,1]^3; plane j on it is the row
-// g_j(t) = a_j0 + sum a_ji t_i. AABB: c = (lo + hi) / 2, e_i = (hi_i - lo_i) / 2 along axis i, each
-// computed with one rounding (relative u): |a^_j0 - a_j0| <= (gamma_4 + 2 u + u^2)(A' M_c + |d'|),
-// |a^_ji - a_ji| <= 3.0001 u |n'_i| h_i. OBB: a^_j0 = fl(n'.c + d'), within 5.0001 u (A' M_c + |d'|);
-// a^_ji = fl(h_i fl(n'.u_i)), within (gamma_3 + u + u (1 + gamma_3)) h_i A' U_i <= 5.0002 u h_i A' U_i
-// (U_i = max_k |u_ik|). Evaluating fl(a^_j0 + sum a^_ji t_i) at |t_i| <= 1 adds gamma_4
-// (|a^_j0| + sum |a^_ji|). With W_j = A'_j X + |d'_j| (X = M_c + h_max for an AABB, M_c + sum h_i U_i
-// for an OBB) bounding |a_j0| + sum |a_ji|, the total is at most 14.01 u W_j (OBB; 13.03 u for an
-// AABB): eps_j = kRow u W_j (1 + kSlack), kRow = 16, bounds |fl(g^_j(t)) - g_j(t)| on the whole cube.
-// So g^_j(t) >= eps_j proves g_j(t) >= 0, min_t g^_j = fl(a^_j0 - sum |a^_ji|) >= eps_j proves the
-// box inside plane j and < -eps_j that it crosses it; max_t g^_j >= eps_j or < -eps_j likewise.
+// Stage 2 rows. A box is c + sum t_i e_i, t in [-1,1]^3; plane j on it is the row
+// g_j(t) = a_j0 + sum a_ji t_i. AABB: a^_j0 = fl(n'.c + d'), within (gamma_4 (1 + u) + 2u)
+// (A' M + |d'|) (c rounded, coefficients), a^_ji = fl(n'_i h_i), within 3.0001 u |n'_i| h_i. OBB:
+// a^_j0 within (gamma_4 + u)(A' M_c + |d'|), a^_ji = fl(n'.e_i) within (gamma_3 + u)(1 + u) A' h_i
+// U_i (U_i = max_k |u_ik|). Evaluating fl(a^_j0 + sum a^_ji t_i) at |t_i| <= 1 adds gamma_4
+// (|a^_j0| + sum |a^_ji|). With W_j = A'_j X + |d'_j| (X = M for an AABB, M_c + H for an OBB)
+// bounding |a_j0| + sum |a_ji|, the total is at most 13.0003 u W_j: eps_j = kRow u W_j (1 + kSlack),
+// kRow = 16, bounds |fl(g^_j(t)) - g_j(t)| on the whole cube. So g^_j(t) >= eps_j proves
+// g_j(t) >= 0, min_t g^_j = fl(a^_j0 - sum |a^_ji|) >= eps_j proves the box inside plane j and
+// < -eps_j that it crosses it; max_t g^_j >= eps_j or < -eps_j likewise.
 //
 // ---- Stage 2: axes ----------------------------------------------------------------------------
 // Let J be the planes that stage 1 could not prove to hold the whole volume. Every other plane
 // holds it, so the volume meets the frustum iff it meets the intersection P_J of the planes in J.
-// Boxes: P_J meets the box iff max over t in the cube of min_j g_j(t) / w_j >= 0 (w_j = eps_j > 0).
-// That is a linear programme in (t, s): maximise s subject to g_j(t) >= s w_j, |t_i| <= 1, solved
-// in double by the simplex method (max_min_lp: any answer is only a candidate). Its optimum s* is
-// also min over lambda >= 0, sum lambda_j w_j = 1 of psi(lambda) = sum lambda_j a_j0 + sum_i
+// Boxes: P_J meets the box iff max over t in the cube of min_j g_j(t) / W_j >= 0. That is a linear
+// programme in (t, s): maximise s subject to g_j(t) >= s W_j, |t_i| <= 1. Its optimum s* is also
+// min over lambda >= 0, sum lambda_j W_j = 1 of psi(lambda) = sum lambda_j a_j0 + sum_i
 // |sum_j lambda_j a_ji| (LP duality), the maximum over the box of the combined plane
-// sum lambda_j (n_j, d_j): a separating axis made of the frustum's planes.
+// sum lambda_j (n_j, d_j): a separating axis made of the frustum's planes. For |J| <= 3 the
+// minimum is found by enumerating the dual vertices (best_dual: single planes; pairs with one box
+// axis cancelled, SAT's edge-cross-box-axis axes; triples with two cancelled, SAT's box axes),
+// otherwise by the simplex method in double (max_min_lp). Either only proposes: a candidate is
+// used only once proved, as follows.
 //  - Witness: a t (clamped to the cube, so that c + sum t_i e_i is in the box exactly) with
 //    fl(g^_j(t)) >= eps_j for every j in J proves the box meets the frustum. Candidates: the
-//    centre t = 0, the frustum's interior point in box coordinates (clamped), the eight corners,
-//    and the programme's optimum.
+//    frame's anchors (points certified inside every plane: compared exactly with an AABB), the
+//    centre t = 0, the primal point of the best dual vertex, and the programme's optimum.
 //  - Farkas: lambda >= 0 with psi^(lambda) < -kFarkasBox u sum lambda_j W_j (1 + kSlack) proves the
-//    box outside: |psi(a) - psi(a^)| <= sum lambda_j (coefficient errors) <= 10.01 u sum lambda_j W_j,
-//    and evaluating psi^ (at most |J| + 4 <= 10 roundings on each term) adds gamma_10 sum lambda_j
-//    W_j: 20.03 u < kFarkasBox = 32 u.
+//    box outside: |psi(a) - psi(a^)| <= sum lambda_j (coefficient errors) <= 9.0003 u sum lambda_j W_j,
+//    and evaluating psi^ (at most |J| + 3 <= 9 roundings on each term) adds gamma_9 sum lambda_j
+//    W_j: 18.01 u < kFarkasBox (1 - gamma_6) = 32 u (1 - gamma_6) (the weight's own rounding).
 // Spheres: the ball meets P_J iff the point of P_J nearest its centre is within r. That point is
 // the projection of c onto the planes of a subset S of J (|S| <= 3, independent normals): with the
 // Gram matrix G_S of the scaled normals (prepared once per frame) mu = G_S^-1 s_S, x_S = c - N^T mu,
@@ -270,6 +279,7 @@ void find_interior(ExactCertifiedFrustum& f) {
   // Vertices of the planes' arrangement that lie (about) in the frustum: a box to search in.
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   int found = 0;
+  double vertex[20][3];
   for (int a = 0; a < f.count; ++a)
     for (int b = a + 1; b < f.count; ++b)
       for (int c = b + 1; c < f.count; ++c) {
@@ -296,6 +306,7 @@ void find_interior(ExactCertifiedFrustum& f) {
           in = plane_at(p, x) >= -1e-9 * (p.a * xm + p.ad);
         }
         if (!in) continue;
+        for (int i = 0; i < 3; ++i) vertex[found][i] = x[i];
         for (int i = 0; i < 3; ++i) {
           lo[i] = found ? std::min(lo[i], x[i]) : x[i];
           hi[i] = found ? std::max(hi[i], x[i]) : x[i];
@@ -330,6 +341,18 @@ void find_interior(ExactCertifiedFrustum& f) {
   }
   f.interior = {g[0], g[1], g[2]};
   f.has_interior = true;
+  // Anchors: g, and each vertex pulled a little towards g, kept where certified inside every
+  // plane: witness points for volumes that hold a corner of the frustum.
+  f.anchor_count = 0;
+  f.anchor[std::size_t(f.anchor_count++)] = f.interior;
+  for (int v = 0; v < found && f.anchor_count < int(f.anchor.size()); ++v) {
+    double x[3];
+    for (int i = 0; i < 3; ++i) x[i] = vertex[v][i] + 0x1p-12 * (g[i] - vertex[v][i]);
+    const double xm = max_abs3(x);
+    bool in = true;
+    for (int j = 0; j < f.count && in; ++j) in = plane_at(f.plane[std::size_t(j)], x) >= point_margin(f.plane[std::size_t(j)], xm);
+    if (in) f.anchor[std::size_t(f.anchor_count++)] = {x[0], x[1], x[2]};
+  }
 }
 
 }  // namespace
@@ -375,6 +398,16 @@ ExactCertifiedFrustum prepare_exact_certified(const CaseFrustum& cf) {
     p.d_in_sphere = next_down(p.d - ds);
     a_max = std::max(a_max, p.a);
   }
+  for (unsigned set = 0; set < 64; ++set) {
+    unsigned pos = 0, neg = 0;
+    for (int j = 0; j < f.count; ++j) {
+      if (!(set >> j & 1)) continue;
+      const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+      const double n[3] = {p.nx, p.ny, p.nz};
+      for (int i = 0; i < 3; ++i) pos |= unsigned(n[i] > 0.0) << i, neg |= unsigned(n[i] < 0.0) << i;
+    }
+    f.same_p_vertex[set] = (pos & neg) == 0;
+  }
   f.t_box = up(M::kBox * kU * a_max);
   f.t_sphere = up(M::kSphere * kU * a_max);
   for (int i = 0; i < f.count; ++i)
@@ -390,13 +423,17 @@ namespace {
 
 // ---- Boxes: stages 2 and 3 ---------------------------------------------------------------------
 
-// The rows g_j(t) = a_j0 + sum a_ji t_i of the planes in J for one box, with their bounds.
+// eps_j = kRow u W_j (1 + kSlack), with W_j computed in a few roundings (covered by the slack).
+constexpr double kEpsRow = M::kRow * kU * (1.0 + M::kSlack);
+
+// The rows g_j(t) = a_j0 + sum a_ji t_i of some planes for one box, with their bounds.
+// (Left uninitialised: only the first m entries are written and read.)
 struct BoxRows {
-  int m = 0;
-  int plane[6] = {};      // index into f.plane
-  double a[6][4] = {};    // a^_j0, a^_j1, a^_j2, a^_j3
-  double w[6] = {};       // W_j = A'_j X + |d'_j|
-  double eps[6] = {};     // kRow u W_j (1 + kSlack): bounds |fl(g^_j(t)) - g_j(t)| on the cube
+  int m;
+  int plane[6];      // index into f.plane
+  double a[6][4];    // a^_j0, a^_j1, a^_j2, a^_j3
+  double w[6];       // W_j = A'_j X + |d'_j|
+  double eps[6];     // kRow u W_j (1 + kSlack): bounds |fl(g^_j(t)) - g_j(t)| on the cube
 };
 
 inline double row_at(const double* a, const double* t) noexcept { return a[0] + a[1] * t[0] + a[2] * t[1] + a[3] * t[2]; }
@@ -408,83 +445,36 @@ bool witness(const BoxRows& r, const double* t) noexcept {
   return true;
 }
 
-// Proves the box outside with the multipliers lambda >= 0 (see "Farkas" in the file comment).
-bool farkas(const BoxRows& r, const double* lambda) noexcept {
+// Proves the box outside with multipliers lambda[q] >= 0 on rows S[q] (see "Farkas" in the file
+// comment).
+bool farkas(const BoxRows& r, const int* S, const double* lambda, int k) noexcept {
   double psi0 = 0.0, comb[3] = {0, 0, 0}, weight = 0.0;
-  for (int j = 0; j < r.m; ++j) {
-    psi0 += lambda[j] * r.a[j][0];
-    for (int i = 0; i < 3; ++i) comb[i] += lambda[j] * r.a[j][i + 1];
-    weight += lambda[j] * r.w[j];
+  for (int q = 0; q < k; ++q) {
+    const double* a = r.a[S[q]];
+    psi0 += lambda[q] * a[0];
+    for (int i = 0; i < 3; ++i) comb[i] += lambda[q] * a[i + 1];
+    weight += lambda[q] * r.w[S[q]];
   }
   const double psi = psi0 + std::abs(comb[0]) + std::abs(comb[1]) + std::abs(comb[2]);
   return weight > 0.0 && psi < -up(M::kFarkasBox * kU * weight);
 }
 
-// The box in the cascade: AABB (aabb set) or OBB.
+// The box in the cascade: an AABB (aabb set) or an OBB.
 struct BoxIn {
   const Aabb* aabb = nullptr;
   const Obb* obb = nullptr;
 };
 
-void make_rows(const ExactCertifiedFrustum& f, const BoxIn& b, unsigned J, BoxRows& r) {
-  double c[3], e[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, X;
-  if (b.aabb) {
-    double hmax = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      c[i] = 0.5 * (double(b.aabb->min[i]) + double(b.aabb->max[i]));
-      e[i][i] = 0.5 * (double(b.aabb->max[i]) - double(b.aabb->min[i]));
-      hmax = std::max(hmax, e[i][i]);
-    }
-    X = up(max_abs3(c) + hmax);
-  } else {
-    double h = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      const glm::vec3& u = b.obb->axes[i];
-      c[i] = double(b.obb->center[i]);
-      h += double(b.obb->half[i]) * std::max(std::abs(double(u.x)), std::max(std::abs(double(u.y)), std::abs(double(u.z))));
-    }
-    X = up(max_abs3(c) + h);
-  }
-  r.m = 0;
-  for (int j = 0; j < f.count; ++j) {
-    if (!(J >> j & 1)) continue;
-    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
-    double* a = r.a[r.m];
-    a[0] = p.nx * c[0] + p.ny * c[1] + p.nz * c[2] + p.d;
-    if (b.aabb) {
-      a[1] = p.nx * e[0][0];
-      a[2] = p.ny * e[1][1];
-      a[3] = p.nz * e[2][2];
-    } else {
-      for (int i = 0; i < 3; ++i) {
-        const glm::vec3& u = b.obb->axes[i];
-        a[i + 1] = double(b.obb->half[i]) * (p.nx * double(u.x) + p.ny * double(u.y) + p.nz * double(u.z));
-      }
-    }
-    r.w[r.m] = up(p.a * X + p.ad);
-    r.eps[r.m] = up(M::kRow * kU * r.w[r.m]);
-    r.plane[r.m] = j;
-    ++r.m;
-  }
-}
-
-// The interior point g in the box's coordinates, clamped to the cube (a point of the box).
-void interior_in_box(const ExactCertifiedFrustum& f, const BoxIn& b, double* t) noexcept {
+// Point x in an OBB's coordinates, clamped to the cube (a point of the box).
+void obb_coordinates(const Obb& b, const std::array<double, 3>& x, double* t) noexcept {
   for (int i = 0; i < 3; ++i) {
+    const glm::vec3& u = b.axes[i];
+    const double h = b.half[i];
+    const double uu = double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z;
     double ti = 0.0;
-    if (b.aabb) {
-      const double lo = b.aabb->min[i], hi = b.aabb->max[i];
-      const double h = 0.5 * (hi - lo);
-      if (h > 0.0) ti = (f.interior[std::size_t(i)] - 0.5 * (lo + hi)) / h;
-    } else {
-      const glm::vec3& u = b.obb->axes[i];
-      const double h = b.obb->half[i];
-      const double uu = double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z;
-      if (h > 0.0 && uu > 0.0) {
-        const double proj = (f.interior[0] - b.obb->center.x) * u.x + (f.interior[1] - b.obb->center.y) * u.y +
-                            (f.interior[2] - b.obb->center.z) * u.z;
-        ti = proj / (h * uu);
-      }
+    if (h > 0.0 && uu > 0.0) {
+      const double proj = (x[0] - b.center.x) * u.x + (x[1] - b.center.y) * u.y + (x[2] - b.center.z) * u.z;
+      ti = proj / (h * uu);
     }
     t[i] = std::isfinite(ti) ? std::min(1.0, std::max(-1.0, ti)) : 0.0;
   }
@@ -492,33 +482,131 @@ void interior_in_box(const ExactCertifiedFrustum& f, const BoxIn& b, double* t) 
 
 enum class Tri : std::uint8_t { no, yes, unknown };
 
+// The dual of the programme for at most three rows, by enumeration of its vertices: the minimum
+// over lambda >= 0 of psi(lambda) / sum lambda_j W_j lies at a single row, at a pair with one
+// t-axis cancelled (lambda_a a_ai + lambda_b a_bi = 0: the edge of two planes against a box axis,
+// SAT's cross-product axes) or at a triple with two cancelled (the combined normal along one box
+// axis: SAT's box face normals). A negative value proves the box outside (after farkas()); else
+// the primal point of the best vertex (complementary slackness: the combined row's p-vertex on
+// the other axes, the rows of the support balanced on the cancelled ones) is the witness.
+struct Dual {
+  double value = std::numeric_limits<double>::infinity();
+  int k = 0;
+  int S[3] = {0, 0, 0};
+  double lambda[3] = {0, 0, 0};
+  int zero[2] = {-1, -1};
+};
+
+void offer(const BoxRows& r, Dual& best, int k, const int* S, const double* lambda, const int* zero) {
+  double psi = 0.0, weight = 0.0;
+  for (int q = 0; q < k; ++q) psi += lambda[q] * r.a[S[q]][0], weight += lambda[q] * r.w[S[q]];
+  for (int i = 1; i <= 3; ++i) {
+    double c = 0.0;
+    for (int q = 0; q < k; ++q) c += lambda[q] * r.a[S[q]][i];
+    psi += std::abs(c);
+  }
+  if (!(weight > 0.0)) return;
+  const double v = psi / weight;
+  if (!(v < best.value)) return;
+  best.value = v;
+  best.k = k;
+  for (int q = 0; q < 3; ++q) best.S[q] = q < k ? S[q] : 0, best.lambda[q] = q < k ? lambda[q] : 0.0;
+  best.zero[0] = zero ? zero[0] : -1;
+  best.zero[1] = zero && k == 3 ? zero[1] : -1;
+}
+
+Dual best_dual(const BoxRows& r) {
+  Dual best;
+  const double one = 1.0;
+  for (int a = 0; a < r.m; ++a) offer(r, best, 1, &a, &one, nullptr);
+  for (int a = 0; a < r.m; ++a)
+    for (int b = a + 1; b < r.m; ++b) {
+      for (int i = 1; i <= 3; ++i) {
+        if (!(r.a[a][i] * r.a[b][i] < 0.0)) continue;
+        const int S[2] = {a, b};
+        const double lambda[2] = {std::abs(r.a[b][i]), std::abs(r.a[a][i])};
+        const int zero[1] = {i};
+        offer(r, best, 2, S, lambda, zero);
+      }
+      for (int c = b + 1; c < r.m; ++c) {
+        const int S[3] = {a, b, c};
+        for (int l = 1; l <= 3; ++l) {
+          const int i = l == 1 ? 2 : 1, k = l == 3 ? 2 : 3;  // the two cancelled axes
+          // lambda orthogonal to columns i and k over rows a, b, c: their cross product.
+          const double x[3] = {r.a[a][i], r.a[b][i], r.a[c][i]}, y[3] = {r.a[a][k], r.a[b][k], r.a[c][k]};
+          double lambda[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+          if (lambda[0] <= 0.0 && lambda[1] <= 0.0 && lambda[2] <= 0.0)
+            for (double& v : lambda) v = -v;
+          if (!(lambda[0] >= 0.0 && lambda[1] >= 0.0 && lambda[2] >= 0.0)) continue;
+          const int zero[2] = {i, k};
+          offer(r, best, 3, S, lambda, zero);
+        }
+      }
+    }
+  return best;
+}
+
+// The primal point of a dual vertex (see best_dual), clamped to the cube.
+void primal(const BoxRows& r, const Dual& d, double* t) {
+  for (int i = 1; i <= 3; ++i) {
+    double c = 0.0;
+    for (int q = 0; q < d.k; ++q) c += d.lambda[q] * r.a[d.S[q]][i];
+    t[i - 1] = c > 0.0 ? 1.0 : c < 0.0 ? -1.0 : 0.0;
+  }
+  // The rows of the support scaled by 1 / W: equal at the optimum. Unknowns: the cancelled axes.
+  auto scaled = [&](int q, int i) { return r.a[d.S[q]][i] / r.w[d.S[q]]; };
+  auto rest = [&](int q) {  // the scaled row at t with the cancelled axes at 0
+    double v = scaled(q, 0);
+    for (int i = 1; i <= 3; ++i)
+      if (i != d.zero[0] && i != d.zero[1]) v += scaled(q, i) * t[i - 1];
+    return v;
+  };
+  if (d.k == 2) {
+    const int i = d.zero[0];
+    const double den = scaled(0, i) - scaled(1, i);
+    if (den != 0.0) t[i - 1] = (rest(1) - rest(0)) / den;
+  } else if (d.k == 3) {
+    const int i = d.zero[0], k = d.zero[1];
+    // (row0 - row1) and (row0 - row2) vanish: a 2x2 system in t_i, t_k.
+    const double m00 = scaled(0, i) - scaled(1, i), m01 = scaled(0, k) - scaled(1, k);
+    const double m10 = scaled(0, i) - scaled(2, i), m11 = scaled(0, k) - scaled(2, k);
+    const double b0 = rest(1) - rest(0), b1 = rest(2) - rest(0);
+    const double det = m00 * m11 - m01 * m10;
+    if (det != 0.0) {
+      t[i - 1] = (b0 * m11 - m01 * b1) / det;
+      t[k - 1] = (m00 * b1 - b0 * m10) / det;
+    }
+  }
+  for (int i = 0; i < 3; ++i) t[i] = std::isfinite(t[i]) ? std::min(1.0, std::max(-1.0, t[i])) : 0.0;
+}
+
 // Whether the box meets P_J (the rows r): yes (a certified witness), no (a certified Farkas
 // combination), or unknown (inside every bound).
 Tri box_meets(const ExactCertifiedFrustum& f, const BoxIn& b, const BoxRows& r) {
   const double centre[3] = {0, 0, 0};
   if (witness(r, centre)) return Tri::yes;
-  if (r.m == 1) {
-    // One plane: its p-vertex (the maximum over the cube) decides.
-    const double mx = r.a[0][0] + std::abs(r.a[0][1]) + std::abs(r.a[0][2]) + std::abs(r.a[0][3]);
-    if (mx >= r.eps[0]) return Tri::yes;
-    if (mx < -r.eps[0]) return Tri::no;
-    return Tri::unknown;
-  }
-  if (f.has_interior) {
+  if (r.m <= 3) {
+    const Dual d = best_dual(r);
+    if (d.value < 0.0 && farkas(r, d.S, d.lambda, d.k)) return Tri::no;
     double t[3];
-    interior_in_box(f, b, t);
+    primal(r, d, t);
     if (witness(r, t)) return Tri::yes;
   }
-  for (int s = 0; s < 8; ++s) {
-    const double t[3] = {s & 1 ? 1.0 : -1.0, s & 2 ? 1.0 : -1.0, s & 4 ? 1.0 : -1.0};
-    if (witness(r, t)) return Tri::yes;
+  if (b.obb) {
+    // The frame's anchors, in the box's coordinates.
+    for (int k = 0; k < f.anchor_count; ++k) {
+      double t[3];
+      obb_coordinates(*b.obb, f.anchor[std::size_t(k)], t);
+      if (witness(r, t)) return Tri::yes;
+    }
   }
   // The programme with w_j = W_j: eps_j is the same multiple of W_j for every j, so its optimum
   // is the best candidate for both certificates.
   const LpAnswer lp = max_min_lp(r.m, r.a, r.w);
   if (!lp.ok) return Tri::unknown;
   if (lp.s > 0.0 && witness(r, lp.t)) return Tri::yes;
-  if (lp.s < 0.0 && farkas(r, lp.lambda)) return Tri::no;
+  const int all[6] = {0, 1, 2, 3, 4, 5};
+  if (lp.s < 0.0 && farkas(r, all, lp.lambda, r.m)) return Tri::no;
   return Tri::unknown;
 }
 
@@ -709,59 +797,131 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
 
 // ---- Stage 1 and the cascades ------------------------------------------------------------------
 
+namespace {
+
+// The bounds of the rows of the planes in J (computed once stage 1 has not decided): W_j and
+// eps_j, X the volume's magnitude (AABB: M; OBB: M_c + H).
+void finish_rows(const ExactCertifiedFrustum& f, BoxRows& r, double X, unsigned J) {
+  int n = 0;
+  for (int j = 0; j < r.m; ++j) {
+    if (!(J >> j & 1)) continue;
+    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+    if (n != j)
+      for (int i = 0; i < 4; ++i) r.a[n][i] = r.a[j][i];
+    r.plane[n] = j;
+    r.w[n] = p.a * X + p.ad;
+    r.eps[n] = r.w[n] * kEpsRow;
+    ++n;
+  }
+  r.m = n;
+}
+
+// Stage 1 of an AABB in centre-extent form: per plane s = n'.c and rad = sum |n'_i h_i|, so that
+// the p-vertex value is s + d + rad and the n-vertex value s + d - rad, with no per-axis choice
+// (see "Stage 1" in the file comment). Bit j of J: plane j not proved to hold the box; of
+// crossing: proved to cut it; of p_in: its p-vertex proved inside it. Fills the rows of every
+// plane. Returns false when a plane proves the box outside.
+template <bool kSix>
+bool aabb_planes(const ExactCertifiedFrustum& f, const Aabb& b, BoxRows& r, double& m, unsigned& J, unsigned& crossing,
+                 unsigned& p_in) noexcept {
+  const double lo0 = b.min.x, lo1 = b.min.y, lo2 = b.min.z, hi0 = b.max.x, hi1 = b.max.y, hi2 = b.max.z;
+  const double c0 = 0.5 * (lo0 + hi0), c1 = 0.5 * (lo1 + hi1), c2 = 0.5 * (lo2 + hi2);
+  const double h0 = 0.5 * (hi0 - lo0), h1 = 0.5 * (hi1 - lo1), h2 = 0.5 * (hi2 - lo2);
+  m = std::max(std::max(std::max(hi0, hi1), hi2), -std::min(std::min(lo0, lo1), lo2));
+  const double T = f.t_box * m, neg_t = -T;
+  unsigned jm = 0, cm = 0, pm = 0;
+  const int count = kSix ? 6 : f.count;
+#pragma GCC unroll 6
+  for (int j = 0; j < count; ++j) {
+    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+    const double s = (p.nx * c0 + p.ny * c1) + p.nz * c2;
+    const double a1 = p.nx * h0, a2 = p.ny * h1, a3 = p.nz * h2;
+    const double rad = (std::abs(a1) + std::abs(a2)) + std::abs(a3);
+    const double so = s + p.d_out_box, si = s + p.d_in_box;
+    if (so + rad < neg_t) return false;
+    jm |= unsigned(!(si - rad >= T)) << j;
+    cm |= unsigned(so - rad < neg_t) << j;
+    pm |= unsigned(si + rad >= T) << j;
+    double* a = r.a[j];
+    a[0] = s + p.d, a[1] = a1, a[2] = a2, a[3] = a3;
+  }
+  r.m = count;
+  J = jm;
+  crossing = cm;
+  p_in = pm & jm;
+  return true;
+}
+
+}  // namespace
+
 Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, ExactStage* stage) {
   set_stage(stage, ExactStage::planes);
   if (f.empty) return Visibility::outside;
-  const double lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
-  const double m = std::max(std::max(std::max(hi[0], hi[1]), hi[2]), -std::min(std::min(lo[0], lo[1]), lo[2]));
-  const double T = f.t_box * m, neg_t = -T;
-  unsigned J = 0, crossing = 0, p_in = 0;
-  for (int j = 0; j < f.count; ++j) {
-    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
-    const double px = p.nx >= 0.0 ? hi[0] : lo[0], qx = p.nx >= 0.0 ? lo[0] : hi[0];
-    const double py = p.ny >= 0.0 ? hi[1] : lo[1], qy = p.ny >= 0.0 ? lo[1] : hi[1];
-    const double pz = p.nz >= 0.0 ? hi[2] : lo[2], qz = p.nz >= 0.0 ? lo[2] : hi[2];
-    const double sp = (p.nx * px + p.ny * py) + p.nz * pz;
-    if (sp + p.d_out_box < neg_t) return Visibility::outside;
-    const double sq = (p.nx * qx + p.ny * qy) + p.nz * qz;
-    if (!(sq + p.d_in_box >= T)) {
-      const unsigned bit = 1u << j;
-      J |= bit;
-      if (sq + p.d_out_box < neg_t) crossing |= bit;
-      if (sp + p.d_in_box >= T) p_in |= bit;
+  unsigned J, crossing, p_in;
+  BoxRows r;
+  double m;
+  if (!(f.count == 6 ? aabb_planes<true>(f, b, r, m, J, crossing, p_in) : aabb_planes<false>(f, b, r, m, J, crossing, p_in)))
+    return Visibility::outside;
+  if (J == 0) return Visibility::inside;
+  if (crossing) {
+    // The planes of J whose normals agree in sign on every axis share their p-vertex: when each
+    // proved it inside, it is a common point (one plane: its own p-vertex).
+    if (p_in == J && f.same_p_vertex[J]) return Visibility::intersecting;
+    set_stage(stage, ExactStage::axes);
+    // An anchor of the frame (a point certified inside every plane) that the box holds
+    // (compared exactly).
+    for (int k = 0; k < f.anchor_count; ++k) {
+      const auto& x = f.anchor[std::size_t(k)];
+      if (b.min.x <= x[0] && x[0] <= b.max.x && b.min.y <= x[1] && x[1] <= b.max.y && b.min.z <= x[2] && x[2] <= b.max.z)
+        return Visibility::intersecting;
     }
   }
-  if (J == 0) return Visibility::inside;
-  if ((J & (J - 1)) == 0 && crossing == J && p_in == J) return Visibility::intersecting;
-  const BoxIn in{&b, nullptr};
-  BoxRows r;
-  make_rows(f, in, J, r);
-  return box_rest(f, in, r, crossing, stage);
+  finish_rows(f, r, m, J);
+  return box_rest(f, BoxIn{&b, nullptr}, r, crossing, stage);
 }
 
 Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, ExactStage* stage) {
   set_stage(stage, ExactStage::planes);
   if (f.empty) return Visibility::outside;
-  // Stage 1 on the rows of every plane: max and min of g_j over the cube with eps_j.
-  const BoxIn in{nullptr, &b};
-  BoxRows r;
-  make_rows(f, in, (1u << f.count) - 1u, r);
-  unsigned J = 0, crossing = 0, p_in = 0;
-  for (int j = 0; j < r.m; ++j) {
-    const double* a = r.a[j];
-    const double rad = std::abs(a[1]) + std::abs(a[2]) + std::abs(a[3]);
-    if (a[0] + rad < -r.eps[j]) return Visibility::outside;
-    if (!(a[0] - rad >= r.eps[j])) {
-      const unsigned bit = 1u << j;
-      J |= bit;
-      if (a[0] - rad < -r.eps[j]) crossing |= bit;
-      if (a[0] + rad >= r.eps[j]) p_in |= bit;
-    }
+  // e_i = h_i u_i is exact in double (a product of two floats).
+  const double c0 = b.center.x, c1 = b.center.y, c2 = b.center.z;
+  double e[3][3], H = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3& u = b.axes[i];
+    const double h = b.half[i];
+    e[i][0] = h * u.x, e[i][1] = h * u.y, e[i][2] = h * u.z;
+    H += h * std::max(std::abs(double(u.x)), std::max(std::abs(double(u.y)), std::abs(double(u.z))));
   }
+  const double X = std::max(std::abs(c0), std::max(std::abs(c1), std::abs(c2))) + H;
+  const double T = f.t_box * X, neg_t = -T;
+  BoxRows r;
+  unsigned J = 0, crossing = 0, p_in = 0;
+  for (int j = 0; j < f.count; ++j) {
+    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+    const double s = (p.nx * c0 + p.ny * c1) + p.nz * c2;
+    double* a = r.a[j];
+    for (int i = 0; i < 3; ++i) a[i + 1] = (p.nx * e[i][0] + p.ny * e[i][1]) + p.nz * e[i][2];
+    const double rad = (std::abs(a[1]) + std::abs(a[2])) + std::abs(a[3]);
+    const double so = s + p.d_out_box, si = s + p.d_in_box;
+    if (so + rad < neg_t) return Visibility::outside;
+    J |= unsigned(!(si - rad >= T)) << j;
+    crossing |= unsigned(so - rad < neg_t) << j;
+    p_in |= unsigned(si + rad >= T) << j;
+    a[0] = s + p.d;
+  }
+  r.m = f.count;
+  p_in &= J;
   if (J == 0) return Visibility::inside;
-  if ((J & (J - 1)) == 0 && crossing == J && p_in == J) return Visibility::intersecting;
-  filter_rows(r, J);
-  return box_rest(f, in, r, crossing, stage);
+  if (crossing && p_in == J) {
+    // Rows agreeing in sign on every axis share their p-vertex (see the AABB).
+    unsigned pos = 0, neg = 0;
+    for (int j = 0; j < f.count; ++j)
+      if (J >> j & 1)
+        for (int i = 0; i < 3; ++i) pos |= unsigned(r.a[j][i + 1] > 0.0) << i, neg |= unsigned(r.a[j][i + 1] < 0.0) << i;
+    if ((pos & neg) == 0) return Visibility::intersecting;
+  }
+  finish_rows(f, r, X, J);
+  return box_rest(f, BoxIn{nullptr, &b}, r, crossing, stage);
 }
 
 Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& s, ExactStage* stage) {
@@ -795,6 +955,15 @@ Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& 
     if (((J & (J - 1)) == 0 && reach == J) || centre_in == J) return Visibility::intersecting;
   }
   set_stage(stage, ExactStage::axes);
+  if (crossing) {
+    // An anchor of the frame (certified inside every plane) within the ball.
+    const double r2 = r * r;
+    for (int k = 0; k < f.anchor_count; ++k) {
+      const auto& x = f.anchor[std::size_t(k)];
+      const double dx = x[0] - c[0], dy = x[1] - c[1], dz = x[2] - c[2];
+      if ((dx * dx + dy * dy + dz * dz) * (1.0 + M::kDistance * kU) <= r2) return Visibility::intersecting;
+    }
+  }
   const Tri meets = sphere_meets(f, J, s, sc, wc);
   if (meets == Tri::no) return Visibility::outside;
   if (crossing && meets == Tri::yes) return Visibility::intersecting;

@@ -47,12 +47,13 @@ const char* to_string(ExactStage s) noexcept;
 /// multiple the computation needs, and the test re-derives it from u.
 struct ExactMargins {
   static constexpr double u = 0x1p-53;
-  /// Stage 1, AABBs: T = kBox u A' M (uniform over planes scaled to A' in [1, 2)), delta = kBox u |d'|.
-  static constexpr double kBox = 8.0;
+  /// Stage 1, AABBs and OBBs: T = kBox u max A' X (uniform over planes scaled to A' in [1, 2); X the
+  /// volume's magnitude), delta = kBox u |d'| folded into the offsets.
+  static constexpr double kBox = 16.0;
   /// Stage 1, spheres: T = kSphere u A' (M + r), delta = kSphereOffset u |d'|.
   static constexpr double kSphere = 16.0;
   static constexpr double kSphereOffset = 8.0;
-  /// Stage 1 and 2, OBBs and box rows in t: eps = kRow u (A' X + |d'|), X the volume's magnitude.
+  /// Stage 2, box rows in t: eps = kRow u (A' X + |d'|), X the volume's magnitude.
   static constexpr double kRow = 16.0;
   /// Stage 2, a plane at a double point x: kPoint u (A' |x|_max + |d'|).
   static constexpr double kPoint = 8.0;
@@ -94,6 +95,9 @@ struct ExactCertifiedFrustum {
   int count = 0;
   bool empty = false;
   double t_box = 0, t_sphere = 0;  ///< kBox u max A', kSphere u max A', rounded up
+  /// For each set of planes (bit j: plane[j]), whether their normals agree in sign on every axis,
+  /// so that a box's p-vertex is the same for all of them.
+  std::array<bool, 64> same_p_vertex{};
   /// Gram matrices of the scaled normals: gram[i][j] = fl(n'_i . n'_j) (i, j in `plane` order).
   std::array<std::array<double, 6>, 6> gram{};
   /// A point strictly inside every plane (when one was found and certified), in double, and the
@@ -101,6 +105,10 @@ struct ExactCertifiedFrustum {
   bool has_interior = false;
   std::array<double, 3> interior{};
   std::array<double, 6> interior_value{};
+  /// Anchors: the interior point and the frustum's vertices pulled towards it by 2^-12 of the
+  /// way, each certified inside every plane (witness points for volumes holding a corner).
+  std::array<std::array<double, 3>, 9> anchor{};
+  int anchor_count = 0;
   /// The float certified frustum (src/certified/certified.cpp) for the SIMD batch's first stage.
   CertifiedFrustum certified;
 };

@@ -241,11 +241,20 @@ L gamma(int k) { return k * u / (1 - k * u); }
 TEST(ExactCertifiedMargins, UnitRoundoffIsDoubles) { EXPECT_EQ(ExactMargins::u, std::ldexp(1.0, -53)); }
 
 TEST(ExactCertifiedMargins, BoxPlaneStage) {
-  // T = fl(t_box M) >= kBox u (1 - u) A' M must cover (gamma_4 + u) A' M; delta = kBox u |d'| (1 -
-  // gamma_4) must cover (gamma_4 (1 + kBox u)(1 + 2u) + u) |d'| (|d_out| <= |d'| + delta + ulp).
+  // AABB in centre-extent form: v = fl(n'.c + D +- sum |n'_i h_i|), a seven-term inner product
+  // (gamma_7) of terms summing to at most A' M (1 + u) + |D|, with c and h rounded once (u A' M)
+  // and the coefficients' own error (u (A' M + |d'|)). T = fl(t_box X) >= kBox u (1 - u) A' X.
   const L k = ExactMargins::kBox;
-  EXPECT_GE(k * u * (1 - u), gamma(4) + u);
-  EXPECT_GE(k * u * (1 - gamma(4)), gamma(4) * (1 + k * u) * (1 + 2 * u) + u);
+  const L on_m = gamma(7) * (1 + u) + 2 * u;
+  EXPECT_LE(on_m, 9.0002L * u);
+  EXPECT_GE(k * u * (1 - u), on_m);
+  // delta = kBox u |d'| with |D| <= |d'| (1 + kBox u)(1 + 2u).
+  EXPECT_GE(k * u * (1 - gamma(7)), gamma(7) * (1 + k * u) * (1 + 2 * u) + u);
+  // OBB: s = fl(n'.c) (gamma_3), rad = sum |fl(n'.e_i)| (gamma_3 each, gamma_2 to add them),
+  // two more additions (gamma_2), the coefficients (u); e_i = h_i u_i is exact.
+  const L obb_x = gamma(3) + gamma(2) + gamma(2) + u;
+  EXPECT_LE(obb_x, 8.0002L * u);
+  EXPECT_GE(k * u * (1 - u), obb_x);
 }
 
 TEST(ExactCertifiedMargins, SpherePlaneStage) {
@@ -270,19 +279,18 @@ TEST(ExactCertifiedMargins, SpherePlaneStage) {
 TEST(ExactCertifiedMargins, BoxRows) {
   // AABB: centre value (gamma_4 (1 + u) + 2u), half-extents (3u + u^2), evaluation gamma_4.
   const L aabb = gamma(4) * (1 + u) + 2 * u + (3 * u + u * u) + gamma(4) * (1 + 7 * u);
-  // OBB: centre value (gamma_4 + u), axis terms (gamma_3 + u + u (1 + gamma_3 + u)), evaluation.
-  const L obb = gamma(4) + u + (gamma(3) + u + u * (1 + gamma(3) + u)) + gamma(4) * (1 + 7 * u);
+  // OBB: centre value (gamma_4 + u), axis terms (gamma_3 + u, e_i exact), evaluation gamma_4.
+  const L obb = gamma(4) + u + (gamma(3) + u) * (1 + u) + gamma(4) * (1 + 7 * u);
   EXPECT_LE(aabb, 13.03L * u);
-  EXPECT_LE(obb, 14.01L * u);
+  EXPECT_LE(obb, 13.03L * u);
   EXPECT_GE(L(ExactMargins::kRow) * u, std::max(aabb, obb));
-  // The OBB plane stage uses the same rows and the same bound.
 }
 
 TEST(ExactCertifiedMargins, BoxFarkas) {
-  // Coefficient errors (at most 10.0002 u W, the OBB's) plus the evaluation of psi (at most
-  // m + 3 <= 9 roundings on any term, m <= 6 rows), against the weight sum lambda_j W_j computed
-  // with gamma_6.
-  const L coeff = gamma(4) + u + (gamma(3) + u + u * (1 + gamma(3) + u));
+  // Coefficient errors (at most 9.0003 u W: the AABB's centre value and half-extents) plus the
+  // evaluation of psi (at most m + 3 <= 9 roundings on any term, m <= 6 rows), against the weight
+  // sum lambda_j W_j computed with gamma_6.
+  const L coeff = gamma(4) * (1 + u) + 2 * u + (3 * u + u * u);
   const L need = coeff + gamma(9) * (1 + 11 * u);
   EXPECT_LE(need, 20.03L * u);
   EXPECT_GE(L(ExactMargins::kFarkasBox) * u * (1 - gamma(6)), need);
