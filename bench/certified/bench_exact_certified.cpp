@@ -7,6 +7,9 @@
 // stage has to run.
 //
 //   generic/<kind>/<distribution>/<method>   ns per test (counter ns_per_test)
+//   ratio/<kind>/<distribution>               both tests in turn on the same frames, each pass
+//                                            timed: exact over certified of the summed times
+//                                            (a shared machine's drift moves both alike)
 //   batch/<kind>/<distribution>/<method>     ns per volume through classify_batch
 //   stages/<kind>/<distribution>             counters planes, axes, exact (fractions of the
 //                                            volumes decided by each stage) and cases; the timed
@@ -19,6 +22,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -127,6 +131,34 @@ void register_generic() {
   }
 }
 
+// The two tests in turn, each pass over the frames timed apart: the ratio of the summed times.
+template <class K, class Base, class Exact>
+void register_ratio(const char* kind, Base base, Exact exact) {
+  for (const std::string& d : distributions()) {
+    benchmark::RegisterBenchmark((std::string("ratio/") + kind + "/" + d).c_str(), [d, base, exact](benchmark::State& s) {
+      const auto& fr = frames<K>(d);
+      using clock = std::chrono::steady_clock;
+      double tb = 0.0, te = 0.0;
+      unsigned sink = 0;
+      for (auto _ : s) {
+        const auto t0 = clock::now();
+        for (std::size_t f = 0; f < fr.volumes.size(); ++f)
+          for (const K& v : fr.volumes[f]) sink += unsigned(base(fr.cert[f], v));
+        const auto t1 = clock::now();
+        for (std::size_t f = 0; f < fr.volumes.size(); ++f)
+          for (const K& v : fr.volumes[f]) sink += unsigned(exact(fr.exact[f], v));
+        const auto t2 = clock::now();
+        tb += std::chrono::duration<double>(t1 - t0).count();
+        te += std::chrono::duration<double>(t2 - t1).count();
+        benchmark::DoNotOptimize(sink);
+      }
+      s.counters["exact_over_certified"] = te / tb;
+      s.counters["certified_ns"] = 1e9 * tb / double(s.iterations()) / double(fr.count);
+      s.counters["exact_ns"] = 1e9 * te / double(s.iterations()) / double(fr.count);
+    });
+  }
+}
+
 // Through the method interface, as verify times the array forms: prepare hoisted, classify_batch
 // over each frame's volumes.
 template <class K>
@@ -185,6 +217,12 @@ void register_stages(const char* kind, Classify classify) {
 
 int main(int argc, char** argv) {
   register_generic();
+  register_ratio<Aabb>("aabb", [](const CertifiedFrustum& f, const Aabb& b) { return certified_pn_vertex(f, b); },
+                       [](const ExactCertifiedFrustum& f, const Aabb& b) { return exact_certified_aabb(f, b); });
+  register_ratio<Obb>("obb", [](const CertifiedFrustum& f, const Obb& b) { return certified_obb_pn_vertex(f, b); },
+                      [](const ExactCertifiedFrustum& f, const Obb& b) { return exact_certified_obb(f, b); });
+  register_ratio<Sphere>("sphere", [](const CertifiedFrustum& f, const Sphere& b) { return certified_sphere(f, b); },
+                         [](const ExactCertifiedFrustum& f, const Sphere& b) { return exact_certified_sphere(f, b); });
   register_batch<Aabb>("aabb", "pn-vertex-batch-certified");
   register_batch<Aabb>("aabb", "aabb-batch-exact-certified");
   register_batch<Sphere>("sphere", "sphere-batch-certified");

@@ -280,6 +280,7 @@ void find_interior(ExactCertifiedFrustum& f) {
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   int found = 0;
   double vertex[20][3];
+  unsigned vertex_planes[20];
   for (int a = 0; a < f.count; ++a)
     for (int b = a + 1; b < f.count; ++b)
       for (int c = b + 1; c < f.count; ++c) {
@@ -307,6 +308,7 @@ void find_interior(ExactCertifiedFrustum& f) {
         }
         if (!in) continue;
         for (int i = 0; i < 3; ++i) vertex[found][i] = x[i];
+        vertex_planes[found] = 1u << a | 1u << b | 1u << c;
         for (int i = 0; i < 3; ++i) {
           lo[i] = found ? std::min(lo[i], x[i]) : x[i];
           hi[i] = found ? std::max(hi[i], x[i]) : x[i];
@@ -341,17 +343,44 @@ void find_interior(ExactCertifiedFrustum& f) {
   }
   f.interior = {g[0], g[1], g[2]};
   f.has_interior = true;
-  // Anchors: g, and each vertex pulled a little towards g, kept where certified inside every
-  // plane: witness points for volumes that hold a corner of the frustum.
+  // Anchors: g, the centre of each face (the mean of its vertices) and each vertex, pulled
+  // 2^-12 of the way towards g and kept where certified inside every plane: witness points for
+  // volumes that hold part of a face or a corner of the frustum.
   f.anchor_count = 0;
-  f.anchor[std::size_t(f.anchor_count++)] = f.interior;
-  for (int v = 0; v < found && f.anchor_count < int(f.anchor.size()); ++v) {
+  auto put = [&](const double* x) {
+    const std::size_t k = std::size_t(f.anchor_count++);
+    f.anchor_x[k] = x[0], f.anchor_y[k] = x[1], f.anchor_z[k] = x[2];
+  };
+  auto add_anchor = [&](const double* p) {
+    if (f.anchor_count >= ExactCertifiedFrustum::kAnchors) return;
     double x[3];
-    for (int i = 0; i < 3; ++i) x[i] = vertex[v][i] + 0x1p-12 * (g[i] - vertex[v][i]);
+    for (int i = 0; i < 3; ++i) x[i] = p[i] + 0x1p-12 * (g[i] - p[i]);
     const double xm = max_abs3(x);
-    bool in = true;
-    for (int j = 0; j < f.count && in; ++j) in = plane_at(f.plane[std::size_t(j)], x) >= point_margin(f.plane[std::size_t(j)], xm);
-    if (in) f.anchor[std::size_t(f.anchor_count++)] = {x[0], x[1], x[2]};
+    for (int j = 0; j < f.count; ++j)
+      if (!(plane_at(f.plane[std::size_t(j)], x) >= point_margin(f.plane[std::size_t(j)], xm))) return;
+    put(x);
+  };
+  put(g);
+  for (int j = 0; j < f.count; ++j) {
+    double centre_j[3] = {0, 0, 0};
+    int on = 0;
+    for (int v = 0; v < found; ++v)
+      if (vertex_planes[v] >> j & 1) {
+        for (int i = 0; i < 3; ++i) centre_j[i] += vertex[v][i];
+        ++on;
+      }
+    if (on < 3) continue;
+    for (double& x : centre_j) x /= on;
+    add_anchor(centre_j);
+  }
+  for (int v = 0; v < found; ++v) add_anchor(vertex[v]);
+  f.anchor_lo = {f.anchor_x[0], f.anchor_y[0], f.anchor_z[0]};
+  f.anchor_hi = f.anchor_lo;
+  for (int k = 1; k < f.anchor_count; ++k) {
+    const double x[3] = {f.anchor_x[std::size_t(k)], f.anchor_y[std::size_t(k)], f.anchor_z[std::size_t(k)]};
+    for (int i = 0; i < 3; ++i)
+      f.anchor_lo[std::size_t(i)] = std::min(f.anchor_lo[std::size_t(i)], x[i]),
+      f.anchor_hi[std::size_t(i)] = std::max(f.anchor_hi[std::size_t(i)], x[i]);
   }
 }
 
@@ -415,6 +444,8 @@ ExactCertifiedFrustum prepare_exact_certified(const CaseFrustum& cf) {
       const ExactCertifiedPlane &p = f.plane[std::size_t(i)], &q = f.plane[std::size_t(j)];
       f.gram[std::size_t(i)][std::size_t(j)] = p.nx * q.nx + p.ny * q.ny + p.nz * q.nz;
     }
+  f.anchor_x.fill(std::numeric_limits<double>::quiet_NaN());
+  f.anchor_y = f.anchor_z = f.anchor_x;
   if (!f.empty) find_interior(f);
   return f;
 }
@@ -490,14 +521,15 @@ enum class Tri : std::uint8_t { no, yes, unknown };
 // the primal point of the best vertex (complementary slackness: the combined row's p-vertex on
 // the other axes, the rows of the support balanced on the cancelled ones) is the witness.
 struct Dual {
-  double value = std::numeric_limits<double>::infinity();
+  double value = 1.0, weight = 0.0;  // psi and sum lambda_j W_j of the best vertex (none yet: 1 / 0)
   int k = 0;
   int S[3] = {0, 0, 0};
   double lambda[3] = {0, 0, 0};
   int zero[2] = {-1, -1};
 };
 
-void offer(const BoxRows& r, Dual& best, int k, const int* S, const double* lambda, const int* zero) {
+template <int k>
+void offer(const BoxRows& r, Dual& best, const int* S, const double* lambda, const int* zero) {
   double psi = 0.0, weight = 0.0;
   for (int q = 0; q < k; ++q) psi += lambda[q] * r.a[S[q]][0], weight += lambda[q] * r.w[S[q]];
   for (int i = 1; i <= 3; ++i) {
@@ -506,9 +538,10 @@ void offer(const BoxRows& r, Dual& best, int k, const int* S, const double* lamb
     psi += std::abs(c);
   }
   if (!(weight > 0.0)) return;
-  const double v = psi / weight;
-  if (!(v < best.value)) return;
-  best.value = v;
+  // psi / weight < best.value, compared without dividing (weights are positive).
+  if (!(psi * best.weight < best.value * weight)) return;
+  best.value = psi;
+  best.weight = weight;
   best.k = k;
   for (int q = 0; q < 3; ++q) best.S[q] = q < k ? S[q] : 0, best.lambda[q] = q < k ? lambda[q] : 0.0;
   best.zero[0] = zero ? zero[0] : -1;
@@ -518,7 +551,7 @@ void offer(const BoxRows& r, Dual& best, int k, const int* S, const double* lamb
 Dual best_dual(const BoxRows& r) {
   Dual best;
   const double one = 1.0;
-  for (int a = 0; a < r.m; ++a) offer(r, best, 1, &a, &one, nullptr);
+  for (int a = 0; a < r.m; ++a) offer<1>(r, best, &a, &one, nullptr);
   for (int a = 0; a < r.m; ++a)
     for (int b = a + 1; b < r.m; ++b) {
       for (int i = 1; i <= 3; ++i) {
@@ -526,7 +559,7 @@ Dual best_dual(const BoxRows& r) {
         const int S[2] = {a, b};
         const double lambda[2] = {std::abs(r.a[b][i]), std::abs(r.a[a][i])};
         const int zero[1] = {i};
-        offer(r, best, 2, S, lambda, zero);
+        offer<2>(r, best, S, lambda, zero);
       }
       for (int c = b + 1; c < r.m; ++c) {
         const int S[3] = {a, b, c};
@@ -539,7 +572,7 @@ Dual best_dual(const BoxRows& r) {
             for (double& v : lambda) v = -v;
           if (!(lambda[0] >= 0.0 && lambda[1] >= 0.0 && lambda[2] >= 0.0)) continue;
           const int zero[2] = {i, k};
-          offer(r, best, 3, S, lambda, zero);
+          offer<3>(r, best, S, lambda, zero);
         }
       }
     }
@@ -596,7 +629,8 @@ Tri box_meets(const ExactCertifiedFrustum& f, const BoxIn& b, const BoxRows& r) 
     // The frame's anchors, in the box's coordinates.
     for (int k = 0; k < f.anchor_count; ++k) {
       double t[3];
-      obb_coordinates(*b.obb, f.anchor[std::size_t(k)], t);
+      const std::array<double, 3> x{f.anchor_x[std::size_t(k)], f.anchor_y[std::size_t(k)], f.anchor_z[std::size_t(k)]};
+      obb_coordinates(*b.obb, x, t);
       if (witness(r, t)) return Tri::yes;
     }
   }
@@ -816,6 +850,19 @@ void finish_rows(const ExactCertifiedFrustum& f, BoxRows& r, double X, unsigned 
   r.m = n;
 }
 
+// Whether the box holds one of the frame's anchors (none when it misses their bounding box).
+bool holds_anchor(const ExactCertifiedFrustum& f, const Aabb& b) noexcept {
+  const double lx = b.min.x, ly = b.min.y, lz = b.min.z, hx = b.max.x, hy = b.max.y, hz = b.max.z;
+  if (!(lx <= f.anchor_hi[0] && f.anchor_lo[0] <= hx && ly <= f.anchor_hi[1] && f.anchor_lo[1] <= hy &&
+        lz <= f.anchor_hi[2] && f.anchor_lo[2] <= hz))
+    return false;
+  for (int k = 0; k < f.anchor_count; ++k) {
+    const double x = f.anchor_x[std::size_t(k)], y = f.anchor_y[std::size_t(k)], z = f.anchor_z[std::size_t(k)];
+    if (lx <= x && x <= hx && ly <= y && y <= hy && lz <= z && z <= hz) return true;
+  }
+  return false;
+}
+
 // Stage 1 of an AABB in centre-extent form: per plane s = n'.c and rad = sum |n'_i h_i|, so that
 // the p-vertex value is s + d + rad and the n-vertex value s + d - rad, with no per-axis choice
 // (see "Stage 1" in the file comment). Bit j of J: plane j not proved to hold the box; of
@@ -868,13 +915,9 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
     // proved it inside, it is a common point (one plane: its own p-vertex).
     if (p_in == J && f.same_p_vertex[J]) return Visibility::intersecting;
     set_stage(stage, ExactStage::axes);
-    // An anchor of the frame (a point certified inside every plane) that the box holds
-    // (compared exactly).
-    for (int k = 0; k < f.anchor_count; ++k) {
-      const auto& x = f.anchor[std::size_t(k)];
-      if (b.min.x <= x[0] && x[0] <= b.max.x && b.min.y <= x[1] && x[1] <= b.max.y && b.min.z <= x[2] && x[2] <= b.max.z)
-        return Visibility::intersecting;
-    }
+    // An anchor of the frame (a point certified inside every plane) that the box holds, compared
+    // exactly.
+    if (holds_anchor(f, b)) return Visibility::intersecting;
   }
   finish_rows(f, r, m, J);
   return box_rest(f, BoxIn{&b, nullptr}, r, crossing, stage);
@@ -958,11 +1001,13 @@ Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& 
   if (crossing) {
     // An anchor of the frame (certified inside every plane) within the ball.
     const double r2 = r * r;
-    for (int k = 0; k < f.anchor_count; ++k) {
-      const auto& x = f.anchor[std::size_t(k)];
-      const double dx = x[0] - c[0], dy = x[1] - c[1], dz = x[2] - c[2];
-      if ((dx * dx + dy * dy + dz * dz) * (1.0 + M::kDistance * kU) <= r2) return Visibility::intersecting;
+    bool hit = false;
+    for (int k = 0; k < ExactCertifiedFrustum::kAnchors; ++k) {
+      const double dx = f.anchor_x[std::size_t(k)] - c[0], dy = f.anchor_y[std::size_t(k)] - c[1],
+                   dz = f.anchor_z[std::size_t(k)] - c[2];
+      hit |= (dx * dx + dy * dy + dz * dz) * (1.0 + M::kDistance * kU) <= r2;  // NaN: false
     }
+    if (hit) return Visibility::intersecting;
   }
   const Tri meets = sphere_meets(f, J, s, sc, wc);
   if (meets == Tri::no) return Visibility::outside;
@@ -979,14 +1024,6 @@ Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& 
   for (int j = 0; j < f.count; ++j)
     if (J >> j & 1) planes[n++] = f.plane[std::size_t(j)].index;
   return exact_detail::sphere_meets_planes(f, planes, n, s) ? Visibility::intersecting : Visibility::outside;
-}
-
-void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, std::size_t n, Visibility* verdicts) {
-  for (std::size_t i = 0; i < n; ++i) verdicts[i] = exact_certified_aabb(f, boxes[i]);
-}
-
-void exact_certified_spheres(const ExactCertifiedFrustum& f, const Sphere* spheres, std::size_t n, Visibility* verdicts) {
-  for (std::size_t i = 0; i < n; ++i) verdicts[i] = exact_certified_sphere(f, spheres[i]);
 }
 
 }  // namespace cullproof

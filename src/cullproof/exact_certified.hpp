@@ -16,6 +16,8 @@
 //     proves separation by a combined plane farther than r, or overlap by a witness point;
 //  3. exact: what lies inside every bound (touching, or within a few units in the last place of
 //     touching) is decided in exact integer arithmetic (Boost.Multiprecision), no CGAL.
+// The array forms (cullproof/exact_certified_batch.hpp, library cullproof::simd) run the SIMD
+// certified batch first and the cascade on what it leaves.
 // Per-frame set-up (exact planes, scaled planes and margins, Gram matrices, an interior point)
 // happens once, in prepare_exact_certified.
 #pragma once
@@ -105,10 +107,14 @@ struct ExactCertifiedFrustum {
   bool has_interior = false;
   std::array<double, 3> interior{};
   std::array<double, 6> interior_value{};
-  /// Anchors: the interior point and the frustum's vertices pulled towards it by 2^-12 of the
-  /// way, each certified inside every plane (witness points for volumes holding a corner).
-  std::array<std::array<double, 3>, 9> anchor{};
+  /// Anchors: the interior point, the centres of the faces and the vertices of the frustum pulled
+  /// towards it by 2^-12 of the way, each certified inside every plane (witness points for volumes
+  /// holding part of a face or a corner), and their bounding box.
+  /// Anchor k is (anchor_x[k], anchor_y[k], anchor_z[k]), k < anchor_count; the rest are NaN.
+  static constexpr int kAnchors = 16;
+  std::array<double, kAnchors> anchor_x{}, anchor_y{}, anchor_z{};
   int anchor_count = 0;
+  std::array<double, 3> anchor_lo{}, anchor_hi{};  ///< the anchors' bounding box
   /// The float certified frustum (src/certified/certified.cpp) for the SIMD batch's first stage.
   CertifiedFrustum certified;
 };
@@ -122,11 +128,5 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
 Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, ExactStage* stage = nullptr);
 /// The exact verdict for a sphere (closed ball).
 Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& s, ExactStage* stage = nullptr);
-
-/// Batches: verdicts[i] for volumes[i], i < n. The SIMD certified batch (certified_batch.hpp)
-/// decides clear outside and clear inside; every other volume goes through the cascade.
-void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, std::size_t n, Visibility* verdicts);
-void exact_certified_spheres(const ExactCertifiedFrustum& f, const Sphere* spheres, std::size_t n,
-                             Visibility* verdicts);
 
 }  // namespace cullproof

@@ -4,6 +4,7 @@
 // extraction differs from the exact planes; and the margins re-derived from the error model.
 // The oracle checks every family in test_exact_certified_property.
 #include "cullproof/exact_certified.hpp"
+#include "cullproof/exact_certified_batch.hpp"
 #include "cullproof/frustum_build.hpp"
 #include "cullproof/methods.hpp"
 
@@ -12,7 +13,9 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <string>
+#include <vector>
 
 using namespace cullproof;
 using V = Visibility;
@@ -210,6 +213,33 @@ TEST(ExactCertified, MatrixFrustaAreJudgedOnTheirExactPlanes) {
   EXPECT_EQ(aabb(cf, Aabb{{-1, -1, -5}, {1, 1, -4}}).verdict, V::intersecting);
   EXPECT_EQ(aabb(cf, Aabb{{-1, -1, -6}, {1, 1, -5}}).verdict, V::inside);
   EXPECT_EQ(sphere(cf, Sphere{{0, 0, -3}, 1}).verdict, V::outside);
+}
+
+// The array forms give the scalar cascade's verdicts, volume by volume: on boxes and balls around
+// the integer frustum with coordinates on a grid of quarters (many touch a face, an edge or a
+// corner exactly, inside or out), in arrays of every length up to 300 (whole SIMD vectors, tails,
+// several chunks).
+TEST(ExactCertified, ArrayFormsEqualTheScalarCascade) {
+  const ExactCertifiedFrustum f = prepare_exact_certified(integer_frustum());
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> q(-16, 16), size(0, 8);
+  for (std::size_t n : {std::size_t(1), std::size_t(7), std::size_t(64), std::size_t(65), std::size_t(300)}) {
+    std::vector<Aabb> boxes;
+    std::vector<Sphere> balls;
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::vec3 lo(q(rng) * 0.25f, q(rng) * 0.25f, -std::abs(q(rng)) * 0.25f);
+      const glm::vec3 hi = lo + glm::vec3(size(rng), size(rng), size(rng)) * 0.25f;
+      boxes.push_back(Aabb{lo, hi});
+      balls.push_back(Sphere{lo, size(rng) * 0.25f});
+    }
+    std::vector<V> vb(n), vs(n);
+    exact_certified_aabbs(f, boxes.data(), n, vb.data());
+    exact_certified_spheres(f, balls.data(), n, vs.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(vb[i], exact_certified_aabb(f, boxes[i])) << "box " << i << " of " << n;
+      EXPECT_EQ(vs[i], exact_certified_sphere(f, balls[i])) << "ball " << i << " of " << n;
+    }
+  }
 }
 
 // The batch forms and the registry: every method claims certified-exact with no tolerance.

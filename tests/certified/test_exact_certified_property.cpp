@@ -5,6 +5,7 @@
 // forms as well. Built twice: as is, and (test_exact_certified_fma) with the float stages compiled
 // with -mfma -ffp-contract=fast, so that the bounds are checked with contraction too.
 #include "cullproof/exact_certified.hpp"
+#include "cullproof/exact_certified_batch.hpp"
 #include "cullproof/generators.hpp"
 #include "cullproof/methods.hpp"
 #include "cullproof/oracle.hpp"
