@@ -64,7 +64,18 @@
 //
 // ---- Stage 2: axes ----------------------------------------------------------------------------
 // Let J be the planes that stage 1 could not prove to hold the whole volume. Every other plane
-// holds it, so the volume meets the frustum iff it meets the intersection P_J of the planes in J.
+// holds it, so the volume meets the frustum iff it meets the intersection P_J of the planes in J,
+// and it is inside iff every plane of J holds it.
+//
+// Witness points. Once per frame the cascade finds a point g strictly inside every plane (the
+// centre of the largest ball in the frustum, by the programme below) and anchors: g, the centres
+// of the faces and the vertices, each pulled 2^-12 of the way towards g, kept where its plane
+// values at a double point x exceed the margin: fl(n'.x + d') >= kPoint u (A' |x|_max + |d'|)
+// (1 + kSlack) proves n.x + d > 0 (the value rounds by gamma_4 + u < 5.0001 u of the magnitude).
+// An AABB that holds an anchor (compared exactly) meets the frustum; a ball whose centre lies
+// within r of one, by fl(sum (x_i - c_i)^2) (1 + kDistance u) <= r^2 (the squared distance has a
+// relative error of at most 5.0001 u; r^2 is exact in double), meets it too.
+//
 // Boxes: P_J meets the box iff max over t in the cube of min_j g_j(t) / W_j >= 0. That is a linear
 // programme in (t, s): maximise s subject to g_j(t) >= s W_j, |t_i| <= 1. Its optimum s* is also
 // min over lambda >= 0, sum lambda_j W_j = 1 of psi(lambda) = sum lambda_j a_j0 + sum_i
@@ -75,28 +86,32 @@
 // otherwise by the simplex method in double (max_min_lp). Either only proposes: a candidate is
 // used only once proved, as follows.
 //  - Witness: a t (clamped to the cube, so that c + sum t_i e_i is in the box exactly) with
-//    fl(g^_j(t)) >= eps_j for every j in J proves the box meets the frustum. Candidates: the
-//    frame's anchors (points certified inside every plane: compared exactly with an AABB), the
-//    centre t = 0, the primal point of the best dual vertex, and the programme's optimum.
+//    fl(g^_j(t)) >= eps_j for every j in J proves the box meets the frustum. Candidates, in order:
+//    the centre t = 0, the primal point of the best dual vertex (complementary slackness: the
+//    combined row's p-vertex on the other axes, the rows of the support balanced on the cancelled
+//    ones), the anchors clamped to the box, and the programme's optimum.
 //  - Farkas: lambda >= 0 with psi^(lambda) < -kFarkasBox u sum lambda_j W_j (1 + kSlack) proves the
 //    box outside: |psi(a) - psi(a^)| <= sum lambda_j (coefficient errors) <= 9.0003 u sum lambda_j W_j,
 //    and evaluating psi^ (at most |J| + 3 <= 9 roundings on each term) adds gamma_9 sum lambda_j
 //    W_j: 18.01 u < kFarkasBox (1 - gamma_6) = 32 u (1 - gamma_6) (the weight's own rounding).
+// Before building the rows, an AABB whose planes of J agree in sign on every axis (so that they
+// share their p-vertex) and each proved that p-vertex inside is intersecting (stage 1 data).
+//
 // Spheres: the ball meets P_J iff the point of P_J nearest its centre is within r. That point is
 // the projection of c onto the planes of a subset S of J (|S| <= 3, independent normals): with the
 // Gram matrix G_S of the scaled normals (prepared once per frame) mu = G_S^-1 s_S, x_S = c - N^T mu,
-// |c - x_S|^2 = s_S . mu. The nearest feasible projection is found in double, then proved:
-//  - Witness: x^ = x_S pulled towards the frustum's interior point g (x^ = x_S + eta (g - x_S)), or
-//    the point of the segment from c to g just past where it enters P_J; a double point x^ with
-//    fl(n'.x^ + d') >= kPoint u (A' X + |d'|) (1 + kSlack) for every j in J (the value rounds by
-//    gamma_4 + u < 5.0001 u) and fl(sum (x^_i - c_i)^2) (1 + kDistance u) <= r^2 (relative error of
-//    the squared distance <= 5.0001 u; r^2 is exact in double) is a common point: intersecting.
+// |c - x_S|^2 = s_S . mu. After the anchors and the point of the segment from c to g just past its
+// entry into P_J, the nearest feasible projection is found in double, then proved:
+//  - Witness: x^ = x_S pulled towards g by half the room left in the ball, with its plane values
+//    and its distance to c proved as for the anchors: intersecting.
 //  - Farkas: lambda = -mu >= 0 (the KKT multipliers of the nearest point) gives the half-space
 //    sum lambda_j (n'_j, d'_j), which holds P_J; the ball is outside when its value at c is below
-//    -r |sum lambda_j n_j|. The computed value is within 5.0001 u sum lambda_j W_j (the planes at c)
-//    plus gamma_6 sum lambda_j |s^_j| (the sum) <= 11.01 u sum lambda_j W_j < kFarkasCentre, and
-//    each component of the combined normal within (u + gamma_3) sum lambda_j |n'_ji|, so its length
-//    within 4.01 u sum lambda_j A'_j (< kFarkasNormal) plus the rounding of its computed length.
+//    -r |sum lambda_j n_j|. The computed value is within (gamma_4 + u) sum lambda_j W_j (the planes
+//    at c, W_j = A'_j M_c + |d'_j|) plus gamma_3 sum lambda_j |s^_j| (the sum): 8.0003 u <
+//    kFarkasCentre (1 - gamma_3); each component of the combined normal within (gamma_3 + u)
+//    sum lambda_j |n'_ji|, so its length within 4.0001 u sum lambda_j A'_j (the 1-norm bounds the
+//    2-norm) < kFarkasNormal (1 - gamma_3), and the computed length sqrt(fl(sum n_i^2)) within
+//    2.5001 u of the exact length of the computed normal (taken times 1 + 4u).
 // What neither proves (a volume within a few units in the last place of touching, or touching)
 // goes to the exact stage, with J.
 //
@@ -625,14 +640,21 @@ Tri box_meets(const ExactCertifiedFrustum& f, const BoxIn& b, const BoxRows& r) 
     primal(r, d, t);
     if (witness(r, t)) return Tri::yes;
   }
-  if (b.obb) {
-    // The frame's anchors, in the box's coordinates.
-    for (int k = 0; k < f.anchor_count; ++k) {
-      double t[3];
-      const std::array<double, 3> x{f.anchor_x[std::size_t(k)], f.anchor_y[std::size_t(k)], f.anchor_z[std::size_t(k)]};
+  // The frame's anchors in the box's coordinates, clamped to the cube: the point of the box
+  // nearest each (an AABB's; an OBB's in its own axes).
+  for (int k = 0; k < f.anchor_count; ++k) {
+    double t[3];
+    const std::array<double, 3> x{f.anchor_x[std::size_t(k)], f.anchor_y[std::size_t(k)], f.anchor_z[std::size_t(k)]};
+    if (b.obb) {
       obb_coordinates(*b.obb, x, t);
-      if (witness(r, t)) return Tri::yes;
+    } else {
+      for (int i = 0; i < 3; ++i) {
+        const double lo = b.aabb->min[i], hi = b.aabb->max[i], h = 0.5 * (hi - lo);
+        const double ti = h > 0.0 ? (x[std::size_t(i)] - 0.5 * (lo + hi)) / h : 0.0;
+        t[i] = std::isfinite(ti) ? std::min(1.0, std::max(-1.0, ti)) : 0.0;
+      }
     }
+    if (witness(r, t)) return Tri::yes;
   }
   // The programme with w_j = W_j: eps_j is the same multiple of W_j for every j, so its optimum
   // is the best candidate for both certificates.
@@ -1001,13 +1023,11 @@ Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& 
   if (crossing) {
     // An anchor of the frame (certified inside every plane) within the ball.
     const double r2 = r * r;
-    bool hit = false;
-    for (int k = 0; k < ExactCertifiedFrustum::kAnchors; ++k) {
+    for (int k = 0; k < f.anchor_count; ++k) {
       const double dx = f.anchor_x[std::size_t(k)] - c[0], dy = f.anchor_y[std::size_t(k)] - c[1],
                    dz = f.anchor_z[std::size_t(k)] - c[2];
-      hit |= (dx * dx + dy * dy + dz * dz) * (1.0 + M::kDistance * kU) <= r2;  // NaN: false
+      if ((dx * dx + dy * dy + dz * dz) * (1.0 + M::kDistance * kU) <= r2) return Visibility::intersecting;
     }
-    if (hit) return Visibility::intersecting;
   }
   const Tri meets = sphere_meets(f, J, s, sc, wc);
   if (meets == Tri::no) return Visibility::outside;

@@ -242,6 +242,28 @@ TEST(ExactCertified, ArrayFormsEqualTheScalarCascade) {
   }
 }
 
+// Frusta that are not frusta: planes that hold nothing together, a plane that holds nothing
+// (n == 0, d < 0), every plane holding all space.
+TEST(ExactCertified, EmptyAndAllSpaceFrusta) {
+  Frustum apart = unit_cube().planes;
+  apart[kNear] = {{0, 0, 1}, -2};  // z >= 2 and z <= 1: empty
+  EXPECT_EQ(aabb(frustum_spec(apart), Aabb{{-4, -4, -4}, {4, 4, 4}}).verdict, V::outside);
+  EXPECT_EQ(sphere(frustum_spec(apart), Sphere{{0.5f, 0.5f, 1.5f}, 4}).verdict, V::outside);
+  Frustum touching = unit_cube().planes;
+  touching[kNear] = {{0, 0, 1}, -1};  // z >= 1 and z <= 1: the square z = 1, no interior
+  EXPECT_EQ(aabb(frustum_spec(touching), Aabb{{-4, -4, -4}, {4, 4, 4}}).verdict, V::intersecting);
+  EXPECT_EQ(aabb(frustum_spec(touching), Aabb{{-4, -4, -4}, {4, 4, 0.5f}}).verdict, V::outside);
+  EXPECT_EQ(aabb(frustum_spec(touching), Aabb{{0.25f, 0.25f, 1}, {0.5f, 0.5f, 1}}).verdict, V::inside);
+  EXPECT_EQ(sphere(frustum_spec(touching), Sphere{{0.5f, 0.5f, 2}, 1}).verdict, V::intersecting);
+  Frustum nothing = unit_cube().planes;
+  nothing[kFar] = {glm::vec3(0.0f), -1};
+  EXPECT_EQ(aabb(frustum_spec(nothing), Aabb{{0.25f, 0.25f, 0.25f}, {0.5f, 0.5f, 0.5f}}).verdict, V::outside);
+  Frustum all;
+  for (Plane& p : all.planes) p = {glm::vec3(0.0f), 1};
+  EXPECT_EQ(aabb(frustum_spec(all), Aabb{{-FLT_MAX, -FLT_MAX, -FLT_MAX}, {FLT_MAX, FLT_MAX, FLT_MAX}}).verdict, V::inside);
+  EXPECT_EQ(sphere(frustum_spec(all), Sphere{{0, 0, 0}, FLT_MAX}).verdict, V::inside);
+}
+
 // The batch forms and the registry: every method claims certified-exact with no tolerance.
 TEST(ExactCertified, MethodsAreRegistered) {
   for (const char* name : {"aabb-exact-certified", "obb-exact-certified", "sphere-exact-certified",

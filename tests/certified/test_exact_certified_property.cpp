@@ -15,8 +15,14 @@
 
 #include "../harness/show.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iterator>
 #include <string>
+#include <type_traits>
 #include <variant>
+#include <vector>
 
 using namespace cullproof;
 
@@ -79,6 +85,72 @@ TEST_P(ExactCertifiedOnEveryFamily, EqualsTheOracle) {
       expect("obb-exact-certified (the point as an OBB)", exact_certified_obb(f, Obb{p, glm::mat3(1.0f), glm::vec3(0.0f)}));
       expect("sphere-exact-certified (the point as a ball)", exact_certified_sphere(f, Sphere{p, 0.0f}));
     }
+  });
+  EXPECT_TRUE(ok);
+}
+
+// The ends of the float range: a case of a touching or boundary family, with the frustum as its
+// planes, moved to other magnitudes by powers of two: every coordinate and every plane offset
+// times 2^k (the same geometry, scaled, while no value leaves the normal range), then each plane
+// times its own 2^m. Large k takes coordinates towards FLT_MAX; small k and m make distances and
+// coefficients subnormal (rounding them, which changes the geometry: the oracle judges what the
+// floats are). Cases that would overflow are drawn again with smaller exponents.
+// The exponent of the largest coefficient of plane p with its offset scaled by 2^k.
+int top_exponent(const Plane& p, int k) {
+  const float big = std::max({std::abs(p.n.x), std::abs(p.n.y), std::abs(p.n.z), std::abs(std::ldexp(p.d, k))});
+  return big > 0.0f ? std::ilogb(big) : 0;
+}
+
+gen::GenCase scaled_case(gen::GenCase g, int k, const std::array<int, 6>& m) {
+  const auto scale = [](float x, int e) { return std::ldexp(x, e); };
+  Frustum f = g.frustum.planes;
+  for (int j = 0; j < 6; ++j) {
+    Plane& p = f[j];
+    p.d = scale(p.d, k);
+    p.n = glm::vec3(scale(p.n.x, m[std::size_t(j)]), scale(p.n.y, m[std::size_t(j)]), scale(p.n.z, m[std::size_t(j)]));
+    p.d = scale(p.d, m[std::size_t(j)]);
+  }
+  g.frustum = frustum_spec(f);
+  const auto v3 = [&](const glm::vec3& x) { return glm::vec3(scale(x.x, k), scale(x.y, k), scale(x.z, k)); };
+  std::visit(
+      [&](auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, Point>) v = v3(v);
+        else if constexpr (std::is_same_v<T, Sphere>) v.center = v3(v.center), v.radius = scale(v.radius, k);
+        else if constexpr (std::is_same_v<T, Aabb>) v.min = v3(v.min), v.max = v3(v.max);
+        else v.center = v3(v.center), v.half = v3(v.half);
+      },
+      g.volume);
+  return g;
+}
+
+TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
+  if (!cpu_has_fma()) GTEST_SKIP() << "this CPU has no FMA";
+  const gen::Distribution families[] = {gen::Distribution::touch, gen::Distribution::contact, gen::Distribution::ulp,
+                                        gen::Distribution::near_boundary, gen::Distribution::corner};
+  const bool ok = rc::check("certified-exact equals the truth at every magnitude", [&] {
+    const gen::Distribution d = *rc::gen::elementOf(std::vector<gen::Distribution>(std::begin(families), std::end(families)));
+    const gen::GenCase base = *gen::case_of(d);
+    // Coordinates up to 2^120 (the cases' own reach a few times 2^6: towards FLT_MAX), down to
+    // below 2^-126 (subnormal), or in between; each plane scaled as far as its coefficients allow.
+    const int range = *rc::gen::inRange(0, 3);
+    const int k = range == 0 ? *rc::gen::inRange(100, 121) : range == 1 ? *rc::gen::inRange(-150, -120) : *rc::gen::inRange(-120, 100);
+    std::array<int, 6> m;
+    for (int j = 0; j < 6; ++j) m[std::size_t(j)] = *rc::gen::inRange(-150, 127 - top_exponent(base.frustum.planes[j], k));
+    const gen::GenCase g = scaled_case(base, k, m);
+    RC_PRE(is_valid(g.frustum.planes) && is_valid(g.volume));
+    RC_TAG(range == 0 ? "coordinates towards FLT_MAX" : range == 1 ? "subnormal coordinates" : "between");
+    const Visibility truth = oracle::truth(g.frustum, g.volume);
+    const ExactCertifiedFrustum f = prepare_exact_certified(g.frustum);
+    Visibility v;
+    std::string method;
+    if (const Aabb* a = std::get_if<Aabb>(&g.volume)) v = exact_certified_aabb(f, *a), method = "aabb-exact-certified";
+    else if (const Obb* o = std::get_if<Obb>(&g.volume)) v = exact_certified_obb(f, *o), method = "obb-exact-certified";
+    else if (const Sphere* sp = std::get_if<Sphere>(&g.volume)) v = exact_certified_sphere(f, *sp), method = "sphere-exact-certified";
+    else v = exact_certified_aabb(f, Aabb{std::get<Point>(g.volume), std::get<Point>(g.volume)}), method = "aabb-exact-certified (point)";
+    if (v != truth)
+      RC_FAIL(method + " says " + std::string(to_string(v)) + ", the truth is " + std::string(to_string(truth)) +
+              " (k = " + std::to_string(k) + ")");
   });
   EXPECT_TRUE(ok);
 }
