@@ -4,7 +4,10 @@
 #include "builtin.hpp"
 #include "cullproof/certified.hpp"
 #include "cullproof/certified_batch.hpp"
+#include "cullproof/exact_certified.hpp"
+#include "cullproof/exact_certified_batch.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace cullproof::detail {
@@ -34,6 +37,36 @@ const auto sphere_kernel = [](const CertifiedFrustum& f) {
     certified_cull_spheres_bitset(f, s, vis, ins);
   };
 };
+
+const auto exact_frustum = [](const CaseFrustum& f) { return prepare_exact_certified(f); };
+
+// One volume through the array form as a full word of 64 copies, so that the vector code, not
+// the scalar tail, is what the harness checks (as for the certified batches).
+Visibility exact_aabb_as_word(const ExactCertifiedFrustum& f, const Aabb& b) {
+  Aabb copies[64];
+  std::fill(copies, copies + 64, b);
+  Visibility v[64];
+  exact_certified_aabbs(f, copies, 64, v);
+  return v[0];
+}
+Visibility exact_sphere_as_word(const ExactCertifiedFrustum& f, const Sphere& s) {
+  Sphere copies[64];
+  std::fill(copies, copies + 64, s);
+  Visibility v[64];
+  exact_certified_spheres(f, copies, 64, v);
+  return v[0];
+}
+
+describe exact_certified(std::string name, std::string description, unsigned volumes) {
+  describe d(std::move(name), Origin::own);
+  d.as(std::move(description))
+      .from("Assarsson & Möller 2000 §3.1 and Gottschalk, Lin & Manocha 1996 §4 as Farkas combinations, each "
+            "stage's bound derived in src/certified/exact_certified.cpp; exact stage in integers "
+            "(src/certified/exact_decide.cpp)")
+      .claims(Claim::certified_exact, 0.0);
+  d.on(volumes).touching("exact: touching from outside is intersecting, from inside inside (decided exactly)");
+  return d;
+}
 
 }  // namespace
 
@@ -75,6 +108,38 @@ void register_certified_methods(std::vector<Method>& out) {
       certified_frustum,
       overload{[](const CertifiedFrustum& f, const Aabb& a) { return certified_sat(f, to_obb(a)); },
                [](const CertifiedFrustum& f, const Obb& b) { return certified_sat(f, b); }}));
+  out.push_back(make_method(
+      exact_certified("aabb-exact-certified",
+                      "the exact verdict: certified n/p-vertex test, certified separating combinations and witness "
+                      "points, then exact integers for what lies within the bounds",
+                      kAabbKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Aabb& b) { return exact_certified_aabb(f, b); }));
+  out.push_back(make_method(
+      exact_certified("obb-exact-certified",
+                      "the exact verdict: certified projected-radius test, certified separating combinations and "
+                      "witness points, then exact integers",
+                      kObbKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Obb& b) { return exact_certified_obb(f, b); }));
+  out.push_back(make_method(
+      exact_certified("sphere-exact-certified",
+                      "the exact verdict: certified r |n| test, certified distances to the frustum's faces, edges "
+                      "and corners, then exact integers",
+                      kSphereKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Sphere& s) { return exact_certified_sphere(f, s); }));
+  out.push_back(make_method(
+      exact_certified("aabb-batch-exact-certified",
+                      "array form of aabb-exact-certified: the SIMD certified batch first, the cascade for the rest; one volume runs as a full word of 64 copies",
+                      kAabbKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Aabb& b) { return exact_aabb_as_word(f, b); },
+      [](const ExactCertifiedFrustum& f, const Aabb* b, std::size_t n, Visibility* v) { exact_certified_aabbs(f, b, n, v); }));
+  out.push_back(make_method(
+      exact_certified("sphere-batch-exact-certified",
+                      "array form of sphere-exact-certified: the SIMD certified batch first, the cascade for the rest; one volume runs as a full word of 64 copies",
+                      kSphereKind),
+      exact_frustum, [](const ExactCertifiedFrustum& f, const Sphere& s) { return exact_sphere_as_word(f, s); },
+      [](const ExactCertifiedFrustum& f, const Sphere* s, std::size_t n, Visibility* v) {
+        exact_certified_spheres(f, s, n, v);
+      }));
 }
 
 }  // namespace cullproof::detail

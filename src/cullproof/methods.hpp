@@ -172,7 +172,7 @@ class Method : public MethodInfo {
   bool batch_ = false;
 };
 
-/// cullproof's own and published methods (34 of them), in a stable order.
+/// cullproof's own and published methods (39 of them), in a stable order.
 const std::vector<Method>& builtin_methods();
 /// The built-in method with this name, or nullptr.
 const Method* find_builtin(std::string_view name);

@@ -1,0 +1,244 @@
+// What exact culling costs: the certified-exact cascade (cullproof/exact_certified.hpp) beside the
+// certified n/p-vertex tests it starts from, per test, with the per-frame set-up hoisted, on the
+// frames `cullproof verify` times (gen::draw_frame: one camera per frame, 1,024 volumes of the
+// distribution around it; 8 frames per distribution, seed 1), for each generic distribution and
+// for all of them pooled; the array forms through the method interface; and, per distribution
+// of the campaign's cases, how often each stage decides and what a volume costs when the exact
+// stage has to run.
+//
+//   generic/<kind>/<distribution>/<method>   ns per test (counter ns_per_test)
+//   ratio/<kind>/<distribution>               both tests in turn on the same frames, each pass
+//                                            timed: exact over certified of the summed times
+//                                            (a shared machine's drift moves both alike)
+//   batch/<kind>/<distribution>/<method>     ns per volume through classify_batch
+//   stages/<kind>/<distribution>             counters planes, axes, exact (fractions of the
+//                                            volumes decided by each stage) and cases; the timed
+//                                            loop classifies the volumes that reach the exact
+//                                            stage (ns_per_test: the cost of one such volume)
+#include "cullproof/certified.hpp"
+#include "cullproof/exact_certified.hpp"
+#include "cullproof/generators.hpp"
+#include "cullproof/methods.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+using namespace cullproof;
+
+namespace {
+
+constexpr std::uint64_t kSeed = 1;
+constexpr int kFrames = 8;
+constexpr std::size_t kFrameSize = 1024;
+constexpr std::size_t kStageCases = 20000;
+
+template <class K>
+struct Frames {
+  std::vector<CaseFrustum> frustum;
+  std::vector<CertifiedFrustum> cert;
+  std::vector<ExactCertifiedFrustum> exact;
+  std::vector<std::vector<K>> volumes;
+  std::size_t count = 0;
+};
+
+template <class K>
+unsigned kind_bit();
+template <>
+unsigned kind_bit<Aabb>() { return kAabbKind; }
+template <>
+unsigned kind_bit<Obb>() { return kObbKind; }
+template <>
+unsigned kind_bit<Sphere>() { return kSphereKind; }
+
+// The frames of one distribution (or of every generic one, pooled: `d` empty).
+template <class K>
+const Frames<K>& frames(const std::string& name) {
+  static std::map<std::string, Frames<K>> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return it->second;
+  Frames<K> out;
+  const std::vector<gen::Distribution> ds =
+      name == "all-generic" ? gen::generic_distributions() : gen::parse_distributions(name);
+  for (gen::Distribution d : ds)
+    for (int i = 0; i < kFrames; ++i) {
+      const gen::Frame fr = gen::draw_frame(d, kSeed, std::uint64_t(i), kFrameSize, kind_bit<K>());
+      if (fr.volumes.empty()) continue;
+      out.frustum.push_back(fr.frustum);
+      out.cert.push_back(certify(fr.frustum));
+      out.exact.push_back(prepare_exact_certified(fr.frustum));
+      std::vector<K> v;
+      for (const Volume& x : fr.volumes) v.push_back(std::get<K>(x));
+      out.count += v.size();
+      out.volumes.push_back(std::move(v));
+    }
+  return cache.emplace(name, std::move(out)).first->second;
+}
+
+void per_test(benchmark::State& s, std::size_t n) {
+  s.counters["ns_per_test"] =
+      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+// fn(frame index, volume) -> Visibility, over every frame's volumes.
+template <class K, class Fn>
+void run(benchmark::State& s, const Frames<K>& fr, Fn&& fn) {
+  unsigned sink = 0;
+  for (auto _ : s) {
+    for (std::size_t f = 0; f < fr.volumes.size(); ++f)
+      for (const K& v : fr.volumes[f]) sink += unsigned(fn(f, v));
+    benchmark::DoNotOptimize(sink);
+  }
+  per_test(s, fr.count);
+}
+
+std::vector<std::string> distributions() {
+  std::vector<std::string> out{"all-generic"};
+  for (gen::Distribution d : gen::generic_distributions()) out.emplace_back(gen::to_string(d));
+  return out;
+}
+
+void register_generic() {
+  for (const std::string& d : distributions()) {
+    benchmark::RegisterBenchmark(("generic/aabb/" + d + "/pn-vertex-certified").c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Aabb>(d);
+      run(s, fr, [&](std::size_t f, const Aabb& b) { return certified_pn_vertex(fr.cert[f], b); });
+    });
+    benchmark::RegisterBenchmark(("generic/aabb/" + d + "/aabb-exact-certified").c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Aabb>(d);
+      run(s, fr, [&](std::size_t f, const Aabb& b) { return exact_certified_aabb(fr.exact[f], b); });
+    });
+    benchmark::RegisterBenchmark(("generic/obb/" + d + "/obb-pn-vertex-certified").c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Obb>(d);
+      run(s, fr, [&](std::size_t f, const Obb& b) { return certified_obb_pn_vertex(fr.cert[f], b); });
+    });
+    benchmark::RegisterBenchmark(("generic/obb/" + d + "/obb-exact-certified").c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Obb>(d);
+      run(s, fr, [&](std::size_t f, const Obb& b) { return exact_certified_obb(fr.exact[f], b); });
+    });
+    benchmark::RegisterBenchmark(("generic/sphere/" + d + "/sphere-certified").c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Sphere>(d);
+      run(s, fr, [&](std::size_t f, const Sphere& b) { return certified_sphere(fr.cert[f], b); });
+    });
+    benchmark::RegisterBenchmark(("generic/sphere/" + d + "/sphere-exact-certified").c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Sphere>(d);
+      run(s, fr, [&](std::size_t f, const Sphere& b) { return exact_certified_sphere(fr.exact[f], b); });
+    });
+  }
+}
+
+// The two tests in turn, each pass over the frames timed apart: the ratio of the summed times.
+template <class K, class Base, class Exact>
+void register_ratio(const char* kind, Base base, Exact exact) {
+  for (const std::string& d : distributions()) {
+    benchmark::RegisterBenchmark((std::string("ratio/") + kind + "/" + d).c_str(), [d, base, exact](benchmark::State& s) {
+      const auto& fr = frames<K>(d);
+      using clock = std::chrono::steady_clock;
+      double tb = 0.0, te = 0.0;
+      unsigned sink = 0;
+      for (auto _ : s) {
+        const auto t0 = clock::now();
+        for (std::size_t f = 0; f < fr.volumes.size(); ++f)
+          for (const K& v : fr.volumes[f]) sink += unsigned(base(fr.cert[f], v));
+        const auto t1 = clock::now();
+        for (std::size_t f = 0; f < fr.volumes.size(); ++f)
+          for (const K& v : fr.volumes[f]) sink += unsigned(exact(fr.exact[f], v));
+        const auto t2 = clock::now();
+        tb += std::chrono::duration<double>(t1 - t0).count();
+        te += std::chrono::duration<double>(t2 - t1).count();
+        benchmark::DoNotOptimize(sink);
+      }
+      s.counters["exact_over_certified"] = te / tb;
+      s.counters["certified_ns"] = 1e9 * tb / double(s.iterations()) / double(fr.count);
+      s.counters["exact_ns"] = 1e9 * te / double(s.iterations()) / double(fr.count);
+    });
+  }
+}
+
+// Through the method interface, as verify times the array forms: prepare hoisted, classify_batch
+// over each frame's volumes.
+template <class K>
+void register_batch(const char* kind, const char* name) {
+  for (const std::string& d : distributions()) {
+    benchmark::RegisterBenchmark((std::string("batch/") + kind + "/" + d + "/" + name).c_str(), [d, name](benchmark::State& s) {
+      const auto& fr = frames<K>(d);
+      const Method* m = find_builtin(name);
+      std::vector<std::unique_ptr<PreparedFrustum>> prepared;
+      for (const CaseFrustum& f : fr.frustum) prepared.push_back(m->prepare(f));
+      std::vector<Answer> out(kFrameSize);
+      for (auto _ : s) {
+        for (std::size_t f = 0; f < fr.volumes.size(); ++f)
+          prepared[f]->classify_batch(fr.volumes[f].data(), fr.volumes[f].size(), out.data());
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+      }
+      per_test(s, fr.count);
+    });
+  }
+}
+
+// Stage statistics on the campaign's cases (gen::draw, seed 1) of every distribution.
+template <class K, class Classify>
+void register_stages(const char* kind, Classify classify) {
+  for (gen::Distribution d : gen::parse_distributions("all")) {
+    const std::string name = std::string("stages/") + kind + "/" + std::string(gen::to_string(d));
+    benchmark::RegisterBenchmark(name.c_str(), [d, classify](benchmark::State& s) {
+      std::size_t count[3] = {0, 0, 0}, cases = 0;
+      std::vector<ExactCertifiedFrustum> ef;
+      std::vector<K> ev;
+      for (std::uint64_t i = 0; i < kStageCases; ++i) {
+        const gen::GenCase g = gen::draw(d, kSeed, i).value();
+        const K* v = std::get_if<K>(&g.volume);
+        if (!v) continue;
+        const ExactCertifiedFrustum f = prepare_exact_certified(g.frustum);
+        ExactStage st{};
+        classify(f, *v, &st);
+        ++count[int(st)], ++cases;
+        if (st == ExactStage::exact) ef.push_back(f), ev.push_back(*v);
+      }
+      unsigned sink = 0;
+      for (auto _ : s) {
+        for (std::size_t i = 0; i < ev.size(); ++i) sink += unsigned(classify(ef[i], ev[i], nullptr));
+        benchmark::DoNotOptimize(sink);
+      }
+      s.counters["cases"] = double(cases);
+      for (int k = 0; k < 3; ++k)
+        s.counters[to_string(ExactStage(k))] = cases ? double(count[k]) / double(cases) : 0.0;
+      if (!ev.empty()) per_test(s, ev.size());
+    });
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_generic();
+  register_ratio<Aabb>("aabb", [](const CertifiedFrustum& f, const Aabb& b) { return certified_pn_vertex(f, b); },
+                       [](const ExactCertifiedFrustum& f, const Aabb& b) { return exact_certified_aabb(f, b); });
+  register_ratio<Obb>("obb", [](const CertifiedFrustum& f, const Obb& b) { return certified_obb_pn_vertex(f, b); },
+                      [](const ExactCertifiedFrustum& f, const Obb& b) { return exact_certified_obb(f, b); });
+  register_ratio<Sphere>("sphere", [](const CertifiedFrustum& f, const Sphere& b) { return certified_sphere(f, b); },
+                         [](const ExactCertifiedFrustum& f, const Sphere& b) { return exact_certified_sphere(f, b); });
+  register_batch<Aabb>("aabb", "pn-vertex-batch-certified");
+  register_batch<Aabb>("aabb", "aabb-batch-exact-certified");
+  register_batch<Sphere>("sphere", "sphere-batch-certified");
+  register_batch<Sphere>("sphere", "sphere-batch-exact-certified");
+  register_stages<Aabb>("aabb", [](const ExactCertifiedFrustum& f, const Aabb& b, ExactStage* s) {
+    return exact_certified_aabb(f, b, s);
+  });
+  register_stages<Obb>("obb", [](const ExactCertifiedFrustum& f, const Obb& b, ExactStage* s) {
+    return exact_certified_obb(f, b, s);
+  });
+  register_stages<Sphere>("sphere", [](const ExactCertifiedFrustum& f, const Sphere& b, ExactStage* s) {
+    return exact_certified_sphere(f, b, s);
+  });
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

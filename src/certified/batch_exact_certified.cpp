@@ -1,0 +1,86 @@
+// Certified-exact culling of arrays (cullproof/exact_certified_batch.hpp): the SIMD certified
+// batch first (src/certified/batch_certified.cpp: outside and inside proved with float margins,
+// Highway runtime dispatch), then the cascade (src/certified/exact_certified.cpp) for every volume
+// it leaves undecided. Both stages are certified, so the verdicts are the exact truth.
+#include "cullproof/exact_certified_batch.hpp"
+
+#include "batch_adapter.hpp"
+#include "cullproof/certified_batch.hpp"
+
+#include <algorithm>
+#include <cstdint>
+
+namespace cullproof {
+
+namespace {
+
+constexpr std::size_t kChunk = detail::kSoaChunk;
+
+inline bool bit(const std::uint64_t* words, std::size_t i) noexcept { return (words[i >> 6] >> (i & 63)) & 1u; }
+
+}  // namespace
+
+void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes, Visibility* verdicts) {
+  std::uint64_t vis[kChunk / 64], ins[kChunk / 64];
+  for (std::size_t i0 = 0; i0 < boxes.count; i0 += kChunk) {
+    const std::size_t m = std::min(kChunk, boxes.count - i0);
+    const AabbSoa part{boxes.min_x + i0, boxes.min_y + i0, boxes.min_z + i0,
+                       boxes.max_x + i0, boxes.max_y + i0, boxes.max_z + i0, m};
+    certified_cull_aabbs_bitset(f.certified, part, vis, ins);
+    for (std::size_t j = 0; j < m; ++j) {
+      if (!bit(vis, j)) {
+        verdicts[i0 + j] = Visibility::outside;
+      } else if (bit(ins, j)) {
+        verdicts[i0 + j] = Visibility::inside;
+      } else {
+        const Aabb b{{part.min_x[j], part.min_y[j], part.min_z[j]}, {part.max_x[j], part.max_y[j], part.max_z[j]}};
+        verdicts[i0 + j] = exact_certified_aabb(f, b);
+      }
+    }
+  }
+}
+
+void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& spheres, Visibility* verdicts) {
+  std::uint64_t vis[kChunk / 64], ins[kChunk / 64];
+  for (std::size_t i0 = 0; i0 < spheres.count; i0 += kChunk) {
+    const std::size_t m = std::min(kChunk, spheres.count - i0);
+    const SphereSoa part{spheres.x + i0, spheres.y + i0, spheres.z + i0, spheres.radius + i0, m};
+    certified_cull_spheres_bitset(f.certified, part, vis, ins);
+    for (std::size_t j = 0; j < m; ++j) {
+      if (!bit(vis, j)) {
+        verdicts[i0 + j] = Visibility::outside;
+      } else if (bit(ins, j)) {
+        verdicts[i0 + j] = Visibility::inside;
+      } else {
+        verdicts[i0 + j] = exact_certified_sphere(f, Sphere{{part.x[j], part.y[j], part.z[j]}, part.radius[j]});
+      }
+    }
+  }
+}
+
+void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, std::size_t n, Visibility* verdicts) {
+  alignas(64) float a[6][kChunk];
+  for (std::size_t i0 = 0; i0 < n; i0 += kChunk) {
+    const std::size_t m = std::min(kChunk, n - i0);
+    for (std::size_t j = 0; j < m; ++j) {
+      const Aabb& b = boxes[i0 + j];
+      a[0][j] = b.min.x, a[1][j] = b.min.y, a[2][j] = b.min.z;
+      a[3][j] = b.max.x, a[4][j] = b.max.y, a[5][j] = b.max.z;
+    }
+    exact_certified_aabbs(f, AabbSoa{a[0], a[1], a[2], a[3], a[4], a[5], m}, verdicts + i0);
+  }
+}
+
+void exact_certified_spheres(const ExactCertifiedFrustum& f, const Sphere* spheres, std::size_t n, Visibility* verdicts) {
+  alignas(64) float a[4][kChunk];
+  for (std::size_t i0 = 0; i0 < n; i0 += kChunk) {
+    const std::size_t m = std::min(kChunk, n - i0);
+    for (std::size_t j = 0; j < m; ++j) {
+      const Sphere& s = spheres[i0 + j];
+      a[0][j] = s.center.x, a[1][j] = s.center.y, a[2][j] = s.center.z, a[3][j] = s.radius;
+    }
+    exact_certified_spheres(f, SphereSoa{a[0], a[1], a[2], a[3], m}, verdicts + i0);
+  }
+}
+
+}  // namespace cullproof

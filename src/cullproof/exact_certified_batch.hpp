@@ -1,0 +1,24 @@
+// Certified-exact culling of arrays (library cullproof::simd): the SIMD certified batch
+// (cullproof/certified_batch.hpp) decides what lies clearly outside or clearly inside, with its
+// float margins, several volumes per instruction; every other volume goes through the scalar
+// cascade of cullproof/exact_certified.hpp. The verdicts are those of the scalar functions: the
+// exact truth.
+#pragma once
+
+#include "cullproof/cull_batch.hpp"
+#include "cullproof/exact_certified.hpp"
+
+#include <cstddef>
+
+namespace cullproof {
+
+/// verdicts[i] for box i of the structure of arrays (valid boxes).
+void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes, Visibility* verdicts);
+/// verdicts[i] for sphere i (radius >= 0).
+void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& spheres, Visibility* verdicts);
+/// The same for arrays of structures (transposed in chunks of 256).
+void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, std::size_t n, Visibility* verdicts);
+void exact_certified_spheres(const ExactCertifiedFrustum& f, const Sphere* spheres, std::size_t n,
+                             Visibility* verdicts);
+
+}  // namespace cullproof

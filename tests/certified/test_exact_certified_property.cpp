@@ -1,0 +1,168 @@
+// Certified-exact culling against the oracle on every family: the verdict equals the truth,
+// case by case (no error of any class; the claim's band is zero). Every volume of a case meets
+// every method that can take it: AABBs also as OBBs (when the float centre and half-extents are
+// exact), points as flat boxes, OBBs and balls of radius 0; AABBs and spheres through the batch
+// forms as well. Built twice: as is, and (test_exact_certified_fma) with the float stages compiled
+// with -mfma -ffp-contract=fast, so that the bounds are checked with contraction too.
+#include "cullproof/exact_certified.hpp"
+#include "cullproof/exact_certified_batch.hpp"
+#include "cullproof/generators.hpp"
+#include "cullproof/methods.hpp"
+#include "cullproof/oracle.hpp"
+
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+
+#include "../harness/show.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iterator>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+using namespace cullproof;
+
+namespace {
+
+#ifdef CULLPROOF_FMA_BUILD
+bool cpu_has_fma() { return __builtin_cpu_supports("fma"); }
+#else
+bool cpu_has_fma() { return true; }
+#endif
+
+// The AABB as an OBB, when to_obb describes exactly the same points.
+bool exact_obb(const Aabb& b, Obb& out) {
+  out = to_obb(b);
+  for (int i = 0; i < 3; ++i)
+    if (double(out.center[i]) - double(out.half[i]) != double(b.min[i]) ||
+        double(out.center[i]) + double(out.half[i]) != double(b.max[i]))
+      return false;
+  return true;
+}
+
+Visibility batch(const char* name, const CaseFrustum& f, const Aabb& b) {
+  Answer a;
+  find_builtin(name)->prepare(f)->classify_batch(&b, 1, &a);
+  return *a;
+}
+Visibility batch(const char* name, const CaseFrustum& f, const Sphere& s) {
+  Answer a;
+  find_builtin(name)->prepare(f)->classify_batch(&s, 1, &a);
+  return *a;
+}
+
+class ExactCertifiedOnEveryFamily : public ::testing::TestWithParam<gen::Distribution> {};
+
+TEST_P(ExactCertifiedOnEveryFamily, EqualsTheOracle) {
+  if (!cpu_has_fma()) GTEST_SKIP() << "this CPU has no FMA";
+  const gen::Distribution d = GetParam();
+  const bool ok = rc::check(std::string("certified-exact equals the truth on ") + std::string(gen::to_string(d)), [d] {
+    const gen::GenCase g = *gen::case_of(d);
+    const Visibility truth = oracle::truth(g.frustum, g.volume);
+    const ExactCertifiedFrustum f = prepare_exact_certified(g.frustum);
+    auto expect = [&](const char* method, Visibility v) {
+      if (v != truth)
+        RC_FAIL(std::string(method) + " says " + std::string(to_string(v)) + ", the truth is " +
+                std::string(to_string(truth)));
+    };
+    if (const Aabb* a = std::get_if<Aabb>(&g.volume)) {
+      expect("aabb-exact-certified", exact_certified_aabb(f, *a));
+      expect("aabb-batch-exact-certified", batch("aabb-batch-exact-certified", g.frustum, *a));
+      Obb o;
+      if (exact_obb(*a, o)) expect("obb-exact-certified (the box as an OBB)", exact_certified_obb(f, o));
+    } else if (const Obb* o = std::get_if<Obb>(&g.volume)) {
+      expect("obb-exact-certified", exact_certified_obb(f, *o));
+    } else if (const Sphere* s = std::get_if<Sphere>(&g.volume)) {
+      expect("sphere-exact-certified", exact_certified_sphere(f, *s));
+      expect("sphere-batch-exact-certified", batch("sphere-batch-exact-certified", g.frustum, *s));
+    } else {
+      const Point& p = std::get<Point>(g.volume);
+      expect("aabb-exact-certified (the point as a box)", exact_certified_aabb(f, Aabb{p, p}));
+      expect("obb-exact-certified (the point as an OBB)", exact_certified_obb(f, Obb{p, glm::mat3(1.0f), glm::vec3(0.0f)}));
+      expect("sphere-exact-certified (the point as a ball)", exact_certified_sphere(f, Sphere{p, 0.0f}));
+    }
+  });
+  EXPECT_TRUE(ok);
+}
+
+// The ends of the float range: a case of a touching or boundary family, with the frustum as its
+// planes, moved to other magnitudes by powers of two: every coordinate and every plane offset
+// times 2^k (the same geometry, scaled, while no value leaves the normal range), then each plane
+// times its own 2^m. Large k takes coordinates towards FLT_MAX; small k and m make distances and
+// coefficients subnormal (rounding them, which changes the geometry: the oracle judges what the
+// floats are). Cases that would overflow are drawn again with smaller exponents.
+// The exponent of the largest coefficient of plane p with its offset scaled by 2^k.
+int top_exponent(const Plane& p, int k) {
+  const float big = std::max({std::abs(p.n.x), std::abs(p.n.y), std::abs(p.n.z), std::abs(std::ldexp(p.d, k))});
+  return big > 0.0f ? std::ilogb(big) : 0;
+}
+
+gen::GenCase scaled_case(gen::GenCase g, int k, const std::array<int, 6>& m) {
+  const auto scale = [](float x, int e) { return std::ldexp(x, e); };
+  Frustum f = g.frustum.planes;
+  for (int j = 0; j < 6; ++j) {
+    Plane& p = f[j];
+    p.d = scale(p.d, k);
+    p.n = glm::vec3(scale(p.n.x, m[std::size_t(j)]), scale(p.n.y, m[std::size_t(j)]), scale(p.n.z, m[std::size_t(j)]));
+    p.d = scale(p.d, m[std::size_t(j)]);
+  }
+  g.frustum = frustum_spec(f);
+  const auto v3 = [&](const glm::vec3& x) { return glm::vec3(scale(x.x, k), scale(x.y, k), scale(x.z, k)); };
+  std::visit(
+      [&](auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, Point>) v = v3(v);
+        else if constexpr (std::is_same_v<T, Sphere>) v.center = v3(v.center), v.radius = scale(v.radius, k);
+        else if constexpr (std::is_same_v<T, Aabb>) v.min = v3(v.min), v.max = v3(v.max);
+        else v.center = v3(v.center), v.half = v3(v.half);
+      },
+      g.volume);
+  return g;
+}
+
+TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
+  if (!cpu_has_fma()) GTEST_SKIP() << "this CPU has no FMA";
+  const gen::Distribution families[] = {gen::Distribution::touch, gen::Distribution::contact, gen::Distribution::ulp,
+                                        gen::Distribution::near_boundary, gen::Distribution::corner};
+  const bool ok = rc::check("certified-exact equals the truth at every magnitude", [&] {
+    const gen::Distribution d = *rc::gen::elementOf(std::vector<gen::Distribution>(std::begin(families), std::end(families)));
+    const gen::GenCase base = *gen::case_of(d);
+    // Coordinates up to 2^120 (the cases' own reach a few times 2^6: towards FLT_MAX), down to
+    // below 2^-126 (subnormal), or in between; each plane scaled as far as its coefficients allow.
+    const int range = *rc::gen::inRange(0, 3);
+    const int k = range == 0 ? *rc::gen::inRange(100, 121) : range == 1 ? *rc::gen::inRange(-150, -120) : *rc::gen::inRange(-120, 100);
+    std::array<int, 6> m;
+    for (int j = 0; j < 6; ++j) m[std::size_t(j)] = *rc::gen::inRange(-150, 127 - top_exponent(base.frustum.planes[j], k));
+    const gen::GenCase g = scaled_case(base, k, m);
+    RC_PRE(is_valid(g.frustum.planes) && is_valid(g.volume));
+    RC_TAG(range == 0 ? "coordinates towards FLT_MAX" : range == 1 ? "subnormal coordinates" : "between");
+    const Visibility truth = oracle::truth(g.frustum, g.volume);
+    const ExactCertifiedFrustum f = prepare_exact_certified(g.frustum);
+    Visibility v;
+    std::string method;
+    if (const Aabb* a = std::get_if<Aabb>(&g.volume)) v = exact_certified_aabb(f, *a), method = "aabb-exact-certified";
+    else if (const Obb* o = std::get_if<Obb>(&g.volume)) v = exact_certified_obb(f, *o), method = "obb-exact-certified";
+    else if (const Sphere* sp = std::get_if<Sphere>(&g.volume)) v = exact_certified_sphere(f, *sp), method = "sphere-exact-certified";
+    else v = exact_certified_aabb(f, Aabb{std::get<Point>(g.volume), std::get<Point>(g.volume)}), method = "aabb-exact-certified (point)";
+    if (v != truth)
+      RC_FAIL(method + " says " + std::string(to_string(v)) + ", the truth is " + std::string(to_string(truth)) +
+              " (k = " + std::to_string(k) + ")");
+  });
+  EXPECT_TRUE(ok);
+}
+
+std::string distribution_name(const ::testing::TestParamInfo<gen::Distribution>& p) {
+  std::string s(gen::to_string(p.param));
+  for (char& ch : s)
+    if (ch == '-') ch = '_';
+  return s;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllDistributions, ExactCertifiedOnEveryFamily,
+                         ::testing::ValuesIn(gen::parse_distributions("all")), distribution_name);
+
+}  // namespace
