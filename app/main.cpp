@@ -22,6 +22,9 @@
 #ifdef CULLPROOF_HAVE_SIM
 #include "cullproof/simulate_cli.hpp"
 #endif
+#ifdef CULLPROOF_HAVE_REPORT
+#include "cullproof/summary.hpp"
+#endif
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -177,6 +180,9 @@ int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const s
   for (const auto& d : r.distributions)
     for (const auto& m : d.methods) written += m.corpus_written.size();
   if (opt.corpus) std::cout << "corpus: " << written << " new case(s) written under " << opt.corpus->string() << "\n";
+#ifdef CULLPROOF_HAVE_REPORT
+  report::print_summary(report::summarize(to_json(r)), std::cout);
+#endif
   if (r.claim_broken()) {
     std::cout << "FAILED: a claim of one of cullproof's own methods or of a user's method was refuted (see REFUTED above)\n";
     return 1;
