@@ -6,6 +6,7 @@
 //                    [--external NAME|all ... [--external-timeout MS] -- PROGRAM ARGS...]
 //                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
 //   cullproof corpus list|show ID|replay [--dir DIR] [--strict] [--external NAME|all -- PROGRAM ARGS...]
+//   cullproof report [--from FILE | verify's options] [--out FILE] [--corpus DIR | --no-corpus]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
 //
 // Machine interface (keep stable): `methods --json` prints a JSON array of objects with at least
@@ -23,6 +24,7 @@
 #include "cullproof/simulate_cli.hpp"
 #endif
 #ifdef CULLPROOF_HAVE_REPORT
+#include "cullproof/report_cli.hpp"
 #include "cullproof/summary.hpp"
 #endif
 
@@ -408,6 +410,10 @@ int main(int argc, char** argv) {
 #ifdef CULLPROOF_HAVE_ORACLE
   external_options(classify_cmd);
 #endif
+#ifdef CULLPROOF_HAVE_REPORT
+  report::ReportOptions report_opt;
+  auto* report_cmd = report::add_report_subcommand(app, report_opt);
+#endif
 
   // Everything after the first '--' is the external program's command line, taken before the
   // subcommands' own positional arguments (classify's files) can claim it.
@@ -436,6 +442,9 @@ int main(int argc, char** argv) {
     }
 #ifdef CULLPROOF_HAVE_SIM
     if (*simulate_cmd) return cullproof::sim::run_simulate_command(sim_opt);
+#endif
+#ifdef CULLPROOF_HAVE_REPORT
+    if (*report_cmd) return report::run_report_command(report_opt);
 #endif
 #ifdef CULLPROOF_HAVE_ORACLE
     if (*verify_cmd) {

@@ -9,9 +9,10 @@
 //  - overall cost: the median over the run's families of its ns/test (classify per volume with the
 //    per-frame set-up hoisted out, as `cullproof verify` times it); families where it was not
 //    timed take no part;
-//  - cheapest for each level of accuracy: among the methods whose claim held, taking the same
-//    volume kinds (so that their rates are over the same cases), the Pareto front of cost against
-//    false-intersect rate: each method on it is the cheapest whose rate is at most its own.
+//  - cheapest for each level of accuracy: among the methods that make a claim and whose claim
+//    held (see on_front), taking the same volume kinds (so that their rates are over the same
+//    cases), the Pareto front of cost against false-intersect rate: each method on it is the
+//    cheapest whose rate is at most its own.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -94,6 +95,11 @@ struct CostPoint {
 /// increasing: a point is on it when no other is at most as costly and at most as wasteful and
 /// better in one. Of equal points the first is kept.
 std::vector<std::size_t> pareto_front(const std::vector<CostPoint>& points);
+
+/// Whether a method takes part in the Pareto front: it makes a claim (not "none": a method that
+/// promises nothing may cull what is visible), the claim held, it was timed and it met truly
+/// outside volumes.
+bool on_front(const MethodOverall& m);
 
 /// Median of the finite values (unset when there are none); the mean of the middle two for an even count.
 std::optional<double> median(std::vector<double> values);

@@ -82,7 +82,8 @@ json two_families() {
          method_json("exact-box", "exact", {"aabb"}, 100, 0, 0, 50.0),
          method_json("slow-and-wasteful", "conservative", {"aabb"}, 100, 20, 0, 60.0),
          method_json("broken", "conservative", {"aabb"}, 100, 0, 3, 1.0, {"broken-false-reject-000000000001"}),
-         method_json("ball", "conservative", {"sphere"}, 100, 5, 0, 1.5)}}});
+         method_json("ball", "conservative", {"sphere"}, 100, 5, 0, 1.5),
+         method_json("guess", "none", {"sphere"}, 100, 0, 0, 0.5)}}});
   r["distributions"].push_back(
       {{"distribution", "corner"},
        {"methods",
@@ -90,7 +91,8 @@ json two_families() {
          method_json("exact-box", "exact", {"aabb"}, 300, 1, 0, 70.0),
          method_json("slow-and-wasteful", "conservative", {"aabb"}, 300, 90, 0, 80.0),
          method_json("broken", "conservative", {"aabb"}, 300, 0, 0, 1.0),
-         method_json("ball", "conservative", {"sphere"}, 300, 5, 0, nullptr)}}});
+         method_json("ball", "conservative", {"sphere"}, 300, 5, 0, nullptr),
+         method_json("guess", "none", {"sphere"}, 300, 0, 0, 0.5)}}});
   return r;
 }
 
@@ -100,7 +102,7 @@ TEST(Summary, PoolsFamiliesAndFindsTheFrontPerVolumeKinds) {
   const report::Summary s = report::summarize(two_families());
   EXPECT_EQ(s.seed, 5u);
   EXPECT_EQ(s.families, (std::vector<std::string>{"uniform", "corner"}));
-  ASSERT_EQ(s.methods.size(), 5u);
+  ASSERT_EQ(s.methods.size(), 6u);
   const report::MethodOverall& cheap = s.methods[0];
   EXPECT_EQ(cheap.truth_outside, 400u);
   EXPECT_EQ(cheap.false_intersect, 80u);
@@ -115,9 +117,12 @@ TEST(Summary, PoolsFamiliesAndFindsTheFrontPerVolumeKinds) {
   EXPECT_EQ(s.broken[0].families[0].corpus_ids, (std::vector<std::string>{"broken-false-reject-000000000001"}));
   EXPECT_EQ(s.broken[0].families[0].reproduce, "cullproof verify --seed 5 --distribution uniform --index 17 --method broken");
 
-  // Groups in the fixed kind order; the refuted method, though cheapest, is on no front.
+  // Groups in the fixed kind order; the refuted method, though cheapest, is on no front, nor the
+  // one that promises nothing, though cheaper and better.
   ASSERT_EQ(s.cheapest.size(), 2u);
   EXPECT_EQ(s.cheapest[0].volumes, (std::vector<std::string>{"sphere"}));
+  ASSERT_EQ(s.cheapest[0].front.size(), 1u);
+  EXPECT_EQ(s.cheapest[0].front[0].method, "ball");
   EXPECT_EQ(s.cheapest[1].volumes, (std::vector<std::string>{"aabb"}));
   ASSERT_EQ(s.cheapest[1].front.size(), 2u);
   EXPECT_EQ(s.cheapest[1].front[0].method, "cheap");
@@ -128,7 +133,7 @@ TEST(Summary, PoolsFamiliesAndFindsTheFrontPerVolumeKinds) {
   std::ostringstream out;
   report::print_summary(s, out);
   const std::string text = out.str();
-  EXPECT_NE(text.find("claims refuted: 1 of 5 methods"), std::string::npos) << text;
+  EXPECT_NE(text.find("claims refuted: 1 of 6 methods"), std::string::npos) << text;
   EXPECT_NE(text.find("broken (own, claims conservative): 3 cases on uniform"), std::string::npos) << text;
   EXPECT_NE(text.find("corpus broken-false-reject-000000000001"), std::string::npos) << text;
   EXPECT_NE(text.find("false intersects 20% (95%"), std::string::npos) << text;
@@ -138,6 +143,7 @@ TEST(Summary, PoolsFamiliesAndFindsTheFrontPerVolumeKinds) {
 TEST(Summary, AMalformedResultIsRefusedNamingTheField) {
   json r = two_families();
   r["distributions"][1]["methods"][3].erase("false_intersect");
+  ASSERT_EQ(r["distributions"][1]["methods"][3]["method"], "broken");
   try {
     report::summarize(r);
     FAIL() << "accepted a result without false_intersect";

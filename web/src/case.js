@@ -1,0 +1,1 @@
+// One corpus case in 3D (`cullproof corpus show ID --html`).
