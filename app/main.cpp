@@ -24,6 +24,7 @@
 #include "cullproof/simulate_cli.hpp"
 #endif
 #ifdef CULLPROOF_HAVE_REPORT
+#include "cullproof/case_view.hpp"
 #include "cullproof/report_cli.hpp"
 #include "cullproof/summary.hpp"
 #endif
@@ -399,6 +400,12 @@ int main(int argc, char** argv) {
   corpus_cmd->add_option("--dir", corpus_root, "Corpus directory")->capture_default_str();
   bool strict = false;
   corpus_cmd->add_flag("--strict", strict, "replay: fail unless every case still fails as recorded");
+  std::string corpus_html, corpus_svg, corpus_zoom_svg;
+#ifdef CULLPROOF_HAVE_REPORT
+  corpus_cmd->add_option("--html", corpus_html, "show: write the case in 3D as a self-contained page to FILE");
+  corpus_cmd->add_option("--svg", corpus_svg, "show: write its three-view drawing (front, top, side) to FILE");
+  corpus_cmd->add_option("--zoom-svg", corpus_zoom_svg, "show: the same, magnified around the error, to FILE");
+#endif
   external_options(corpus_cmd);
 #endif
 
@@ -463,6 +470,10 @@ int main(int argc, char** argv) {
         std::cerr << "cullproof corpus rerecord: needs a method name (see 'cullproof methods')\n";
         return 2;
       }
+#ifdef CULLPROOF_HAVE_REPORT
+      if (corpus_action == "show" && !(corpus_html.empty() && corpus_svg.empty() && corpus_zoom_svg.empty()))
+        return report::write_case_files(corpus_root, corpus_id, corpus_html, corpus_svg, corpus_zoom_svg);
+#endif
       if (!external.empty() && corpus_action != "replay") {
         std::cerr << "cullproof corpus: --external is for replay\n";
         return 2;

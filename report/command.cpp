@@ -1,5 +1,7 @@
 // `cullproof report`: the command the CLI (app/main.cpp) calls.
 #include "cullproof/campaign.hpp"
+#include "cullproof/case_view.hpp"
+#include "cullproof/corpus.hpp"
 #include "cullproof/case_io.hpp"
 #include "cullproof/report_cli.hpp"
 #include "cullproof/summary.hpp"
@@ -67,7 +69,10 @@ int run_report_command(const ReportOptions& o) {
       in.made_by = made_by(o);
       if (!o.json.empty()) write_file_atomic(o.json, result.dump(2) + "\n");
     }
-    if (!o.no_corpus) in.corpus_dir = o.corpus;
+    if (!o.no_corpus && std::filesystem::is_directory(o.corpus)) {
+      in.corpus_dir = o.corpus;
+      for (const CorpusEntry& e : load_corpus(o.corpus)) in.corpus.push_back(case_view_json(e));
+    }
     write_file_atomic(o.out, report_html(result, in, report_js));
     const Summary s = summarize(result);
     print_summary(s, std::cout);
@@ -85,6 +90,9 @@ int run_report_command(const ReportOptions& o) {
     return 2;
   } catch (const InputLimitError& e) {
     std::cerr << who << o.from << ": " << e.what() << "\n";
+    return 2;
+  } catch (const CaseError& e) {
+    std::cerr << who << "the corpus: " << e.what() << "\n";
     return 2;
   } catch (const std::invalid_argument& e) {
     std::cerr << who << e.what() << "\n";

@@ -124,3 +124,94 @@ TEST(ReportPage, ThePageHoldsTheSummaryTheChartsAndTheScript) {
   EXPECT_EQ(page.find("id=\"corpus\""), std::string::npos);  // no corpus given
   EXPECT_EQ(page.find("http://"), std::string::npos);
 }
+
+// ---- the corpus drawn ----------------------------------------------------------------------
+
+#include "cullproof/case_view.hpp"
+#include "cullproof/frustum_build.hpp"
+
+namespace {
+
+// The unit cube [-1, 1]^3 as six planes (left, right, bottom, top, near, far), not normalised.
+CaseFrustum cube_frustum() {
+  Frustum f;
+  f[kLeft] = {{2, 0, 0}, 2};
+  f[kRight] = {{-2, 0, 0}, 2};
+  f[kBottom] = {{0, 1, 0}, 1};
+  f[kTop] = {{0, -1, 0}, 1};
+  f[kNear] = {{0, 0, 1}, 1};
+  f[kFar] = {{0, 0, -1}, 1};
+  return frustum_spec(f);
+}
+
+CorpusEntry entry(const Volume& v, ErrorClass e, Visibility verdict, Visibility truth) {
+  CorpusEntry x;
+  x.c.id = "drawn";
+  x.c.frustum = cube_frustum();
+  x.c.volume = v;
+  x.c.truth = truth;
+  x.method = "some-method";
+  x.error = e;
+  x.verdict = verdict;
+  x.distribution = "uniform";
+  x.c.extra = {{"distance", 0.25}, {"witness", {{"kind", "separating_plane"}, {"plane_approx", {1, 0, 0, -1}}}}};
+  return x;
+}
+
+}  // namespace
+
+TEST(CaseView, TruthPlanesOfAMatrixAreTheRowSums) {
+  const glm::mat4 m = off_axis_projection(-1.0f, 1.0f, -0.5f, 0.5f, 1.0f, 10.0f);
+  const auto p = report::truth_planes(frustum_spec(m, DepthConvention{}));
+  const Frustum f = frustum_from_matrix(m);  // every row sum here is exact in float too
+  for (int j = 0; j < 6; ++j) {
+    EXPECT_EQ(p[std::size_t(j)][0], double(f[j].n.x)) << j;
+    EXPECT_EQ(p[std::size_t(j)][3], double(f[j].d)) << j;
+  }
+}
+
+TEST(CaseView, TheFaultPlaneIsTheOneNearestToMakingTheVerdictRight) {
+  const auto planes = report::truth_planes(cube_frustum());
+  // A box beyond the right plane (x from 1.25): kept although outside (a false intersect); the
+  // right plane is the one it is furthest outside of.
+  const Aabb beyond{{1.25f, -0.5f, -0.5f}, {1.5f, 0.5f, 0.5f}};
+  EXPECT_EQ(report::fault_plane(planes, beyond, ErrorClass::false_intersect, {}), kRight);
+  const auto r = report::plane_ranges(planes, beyond);
+  EXPECT_DOUBLE_EQ(r[kRight][1], -0.25);  // normalised: the plane's normal has length 2
+  // A box through the top face, called inside: the top plane is the one it crosses.
+  const Aabb through{{-0.5f, 0.5f, -0.5f}, {0.5f, 1.5f, 0.5f}};
+  EXPECT_EQ(report::fault_plane(planes, through, ErrorClass::false_inside, {}), kTop);
+  EXPECT_EQ(report::fault_plane(planes, through, ErrorClass::correct, {}), -1);
+  // A sphere touching the near plane (z = -1) from inside, called intersecting.
+  EXPECT_EQ(report::fault_plane(planes, Sphere{{0, 0, -0.75f}, 0.25f}, ErrorClass::under_inside, {}), kNear);
+}
+
+TEST(CaseView, TheViewFocusesOnTheErrorAndTheDrawingHasThreePanels) {
+  const CorpusEntry e = entry(Aabb{{1.25f, -0.5f, -0.5f}, {1.5f, 0.5f, 0.5f}}, ErrorClass::false_intersect, Visibility::intersecting,
+                              Visibility::outside);
+  const json v = report::case_view_json(e);
+  EXPECT_EQ(v.at("fault_plane"), kRight);
+  EXPECT_EQ(v.at("focus").at(0), 1.25);  // the box's face nearest the frustum
+  EXPECT_EQ(v.at("error_width"), 0.25);   // its distance
+  EXPECT_EQ(v.at("witness").at("kind"), "separating_plane");
+  EXPECT_EQ(v.at("scene").at("frustum_corners"), 8);
+  for (const bool zoom : {false, true}) {
+    const std::string svg = report::case_svg(v, zoom);
+    EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+    for (const char* name : {">front<", ">top<", ">side<"}) EXPECT_NE(svg.find(name), std::string::npos) << name;
+    EXPECT_EQ(svg.find("nan"), std::string::npos);
+    EXPECT_EQ(svg.find("inf"), std::string::npos);
+    EXPECT_NE(svg.find("#b2182b"), std::string::npos);  // the volume's edges are drawn
+  }
+  EXPECT_NE(report::case_svg(v, true).find("magnified"), std::string::npos);
+}
+
+TEST(CaseView, AnInfiniteFarPlaneLeavesTheFrustumOpen) {
+  CorpusEntry e = entry(Point{0, 0, 5}, ErrorClass::under_inside, Visibility::intersecting, Visibility::inside);
+  Frustum f = e.c.frustum.planes;
+  f[kFar] = {{0, 0, 0}, 1};  // all space
+  e.c.frustum = frustum_spec(f);
+  const json v = report::case_view_json(e);
+  EXPECT_EQ(v.at("scene").at("frustum_corners"), 4);  // the near ones
+  EXPECT_NE(report::case_svg(v, false).find("dashed edges: it goes on beyond the drawing"), std::string::npos);
+}

@@ -1,8 +1,9 @@
 // The report page: hands each chart's Vega-Lite specification (written by the C++ side, see
 // report/charts.cpp) to vega-embed, and shows the corpus in 3D (corpus.js).
 //
-// For the browser tests: window.cullproof.ready resolves when every chart is drawn;
-// window.cullproof.views maps a chart's element id to its Vega view.
+// For the browser tests: window.cullproof.ready resolves when every chart is drawn (the body's
+// data-ready is then "yes"); window.cullproof.views maps a chart's element id to its Vega view;
+// window.cullproof.viewer is the corpus section's 3D viewer.
 import embed from 'vega-embed';
 import { mountCorpus } from './corpus.js';
 
@@ -25,9 +26,10 @@ async function draw(chart) {
   }
 }
 
+window.cullproof = { views, viewer: null };
 const ready = Promise.all(data.charts.map(draw)).then(() => {
-  if (data.corpus && data.corpus.length) mountCorpus(document.getElementById('corpus-view'), data.corpus);
+  if (data.corpus && data.corpus.length) window.cullproof.viewer = mountCorpus(document.getElementById('corpus-view'), data.corpus);
   document.body.dataset.ready = 'yes';
 });
 ready.catch((e) => console.error('cullproof report:', e));
-window.cullproof = { ready, views };
+window.cullproof.ready = ready;

@@ -7,17 +7,27 @@
 //    timed, named by method, and each family's chart one per method timed there;
 //  - every cell of the false-reject and false-insides heat maps matches the JSON, in its label and
 //    in the number drawn in it, and a cell is outlined exactly where the claim broke;
-//  - the distance chart draws a cell for every decade holding false intersects.
-// Screenshots go to the shots folder (the page, the overall chart, the heat maps).
+//  - the distance chart draws a cell for every decade holding false intersects;
+//  - the corpus section lists every case of the corpus (--corpus DIR) and its filters narrow the
+//    list; the 3D view of a case draws a canvas that is not blank, whose pixels change where the
+//    volume is when the volume is hidden, and "zoom to the error" says how much it magnifies;
+//  - the same for the page of one case (--case FILE, from `cullproof corpus show ID --html`).
+// Screenshots go to the shots folder (the page, the overall chart, the heat maps, the 3D views).
 //
-//   node check-report.mjs --report report.html --result verify.json --shots DIR
+//   node check-report.mjs --report report.html --result verify.json --corpus DIR --case case.html --shots DIR
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
 import { parseArgs } from 'node:util';
 
 const { values: opt } = parseArgs({
-  options: { report: { type: 'string' }, result: { type: 'string' }, shots: { type: 'string' } },
+  options: {
+    report: { type: 'string' },
+    result: { type: 'string' },
+    corpus: { type: 'string' },
+    case: { type: 'string' },
+    shots: { type: 'string' },
+  },
 });
 if (!opt.report || !opt.result || !opt.shots) {
   console.error('usage: node check-report.mjs --report FILE --result FILE --shots DIR');
@@ -61,6 +71,70 @@ export async function openPage(browser, file, viewport = { width: 1300, height: 
   await page.goto(url);
   await page.waitForFunction(() => document.body.dataset.ready === 'yes', null, { timeout: 60000 });
   return { page, problems };
+}
+
+// Counts over the viewer's canvas, in the page (the pixels stay there): `drawn`, pixels that are
+// not the white background; `changed`, pixels that differ from those of the last call with
+// keep = true.
+async function canvasCounts(page, keep) {
+  return page.evaluate(async (keep) => {
+    const v = window.cullproof.viewer;
+    v.render();
+    const img = new Image();
+    img.src = v.canvas.toDataURL('image/png');
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width;
+    c.height = img.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(img, 0, 0);
+    const px = ctx.getImageData(0, 0, c.width, c.height).data;
+    const before = window.__cullproofPixels;
+    let drawn = 0;
+    let changed = 0;
+    for (let i = 0; i < px.length; i += 4) {
+      if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) drawn++;
+      if (before && Math.abs(px[i] - before[i]) + Math.abs(px[i + 1] - before[i + 1]) + Math.abs(px[i + 2] - before[i + 2]) > 30) changed++;
+    }
+    if (keep) window.__cullproofPixels = px;
+    return { pixels: px.length / 4, drawn, changed };
+  }, keep);
+}
+
+// The 3D view on `page` (window.cullproof.viewer): drawn, the volume seen, the zoom explained.
+async function checkViewer(page, what, shots) {
+  const ok = await page.evaluate(() => !!(window.cullproof.viewer && window.cullproof.viewer.canvas.getContext));
+  check(ok, `${what}: a 3D view is on the page`);
+  if (!ok) return;
+  const all = await canvasCounts(page, true);
+  check(all.drawn > all.pixels * 0.01, `${what}: the canvas is not blank (${all.drawn} of ${all.pixels} pixels drawn)`);
+  await page.screenshot({ path: path.join(shots, `${what}-3d.png`) });
+  await page.evaluate(() => window.cullproof.viewer.setVisible('volume', false));
+  const without = await canvasCounts(page, false);
+  await page.evaluate(() => window.cullproof.viewer.setVisible('volume', true));
+  check(without.changed >= 20, `${what}: the volume is drawn (${without.changed} pixels change when it is hidden)`);
+  const note = await page.evaluate(() => {
+    window.cullproof.viewer.setMode('error');
+    return document.querySelector('.cv-scale').textContent;
+  });
+  check(/^magnified ×\S+ around the error: \S+ units across$/.test(note), `${what}: "zoom to the error" says how much it magnifies: "${note}"`);
+  const zoomed = await canvasCounts(page, false);
+  check(zoomed.drawn > zoomed.pixels * 0.01, `${what}: the magnified view is not blank (${zoomed.drawn} pixels drawn)`);
+  await page.screenshot({ path: path.join(shots, `${what}-3d-zoomed.png`) });
+  await page.evaluate(() => window.cullproof.viewer.setMode('scene'));
+}
+
+// The corpus case files under `dir`, as cullproof reads them (scenes left out).
+function corpusFiles(dir) {
+  const out = [];
+  for (const e of fs.readdirSync(dir, { withFileTypes: true })) {
+    const p = path.join(dir, e.name);
+    if (e.isDirectory()) {
+      if (e.name === 'scenes' || e.name.startsWith('scenes-')) continue;
+      out.push(...corpusFiles(p));
+    } else if (e.name.endsWith('.json')) out.push(p);
+  }
+  return out;
 }
 
 const result = JSON.parse(fs.readFileSync(opt.result, 'utf8'));
@@ -156,10 +230,35 @@ try {
   await page.screenshot({ path: path.join(opt.shots, 'report.png'), fullPage: true });
   await page.locator('#chart-all').screenshot({ path: path.join(opt.shots, 'accuracy-cost.png') });
   await page.locator('#heatmap').screenshot({ path: path.join(opt.shots, 'claims-heatmap.png') });
+
+  if (opt.corpus) {
+    const files = corpusFiles(opt.corpus);
+    const listed = await page.evaluate(() => document.querySelector('.corpus-filters span').textContent);
+    check(listed.startsWith(`${files.length} of ${files.length} cases`), `the corpus section lists every case: "${listed}", ${files.length} files`);
+    const methods = new Set(files.map((f) => path.basename(path.dirname(path.dirname(f)))));
+    const one = [...methods].sort()[0];
+    const ofOne = files.filter((f) => path.basename(path.dirname(path.dirname(f))) === one).length;
+    const narrowed = await page.evaluate((m) => {
+      const s = document.querySelector('.corpus-filters select[name=method]');
+      s.value = m;
+      s.dispatchEvent(new Event('change'));
+      return document.querySelector('.corpus-filters span').textContent;
+    }, one);
+    check(narrowed.startsWith(`${ofOne} of ${files.length} cases`), `the method filter narrows the list to ${one}'s ${ofOne} cases: "${narrowed}"`);
+    await page.locator('#corpus').scrollIntoViewIfNeeded();
+    await checkViewer(page, 'report-corpus', opt.shots);
+  }
   await page.close();
+
+  if (opt.case) {
+    const c = await openPage(browser, opt.case);
+    check(c.problems.length === 0, `the case page loads cleanly: ${c.problems.join('; ')}`);
+    await checkViewer(c.page, 'case', opt.shots);
+    await c.page.close();
+  }
 } finally {
   await browser.close();
 }
 for (const f of failures) console.log(`FAILED: ${f}`);
-console.log(`report page (${opt.report}): ${passed} passed, ${failures.length} failed; screenshots in ${opt.shots}`);
+console.log(`pages (${opt.report}${opt.case ? `, ${opt.case}` : ''}): ${passed} passed, ${failures.length} failed; screenshots in ${opt.shots}`);
 process.exit(failures.length ? 1 : 0);
