@@ -471,8 +471,13 @@ int main(int argc, char** argv) {
         return 2;
       }
 #ifdef CULLPROOF_HAVE_REPORT
-      if (corpus_action == "show" && !(corpus_html.empty() && corpus_svg.empty() && corpus_zoom_svg.empty()))
+      if (!(corpus_html.empty() && corpus_svg.empty() && corpus_zoom_svg.empty())) {
+        if (corpus_action != "show") {
+          std::cerr << "cullproof corpus: --html, --svg and --zoom-svg are for show\n";
+          return 2;
+        }
         return report::write_case_files(corpus_root, corpus_id, corpus_html, corpus_svg, corpus_zoom_svg);
+      }
 #endif
       if (!external.empty() && corpus_action != "replay") {
         std::cerr << "cullproof corpus: --external is for replay\n";

@@ -250,14 +250,23 @@ json case_view_json(const CorpusEntry& e) {
     }
     return best_p;
   };
+  // An exact rational coordinate ("p/q") to the nearest double or so: a drawing needs no more. A
+  // numerator or denominator past double's range leaves the point unread.
   auto exact_point = [](const json& j, V3& out) {
     if (!j.is_array() || j.size() != 3) return false;
+    V3 p{};
     for (std::size_t i = 0; i < 3; ++i) {
       if (!j[i].is_string()) return false;
       const std::string t = j[i].get<std::string>();
       const auto slash = t.find('/');
-      out[i] = slash == std::string::npos ? std::stod(t) : std::stod(t.substr(0, slash)) / std::stod(t.substr(slash + 1));
+      try {
+        p[i] = slash == std::string::npos ? std::stod(t) : std::stod(t.substr(0, slash)) / std::stod(t.substr(slash + 1));
+      } catch (const std::exception&) {
+        return false;
+      }
+      if (!std::isfinite(p[i])) return false;
     }
+    out = p;
     return true;
   };
   V3 focus = center;
@@ -268,11 +277,18 @@ json case_view_json(const CorpusEntry& e) {
   } else if (fault >= 0) {
     focus = extreme(planes[std::size_t(fault)], e.error == ErrorClass::false_intersect);
   }
-  // How wide the error is: its distance (the smaller of the oracle's and the backward one), and
-  // never below a few float spacings at the focus (a touching case has distance 0).
+  // How wide the error is: its distance (the smaller of the oracle's and the backward one), never
+  // below a few float spacings at the focus. A distance of 0 is a contact, with no gap to resolve
+  // at any magnification: then the view is sized to the volume, to show what touches what.
   double width = std::numeric_limits<double>::infinity();
+  bool contact = false;
   for (const char* key : {"distance", "backward_distance"})
-    if (x.contains(key) && x[key].is_number() && x[key].get<double>() > 0) width = std::min(width, x[key].get<double>());
+    if (x.contains(key) && x[key].is_number()) {
+      const double d = x[key].get<double>();
+      if (d > 0) width = std::min(width, d);
+      if (d == 0) contact = true;
+    }
+  if (contact) width = std::max({vhi[0] - vlo[0], vhi[1] - vlo[1], vhi[2] - vlo[2]}) / 3;
   const double spacing = float_spacing(std::max({std::abs(focus[0]), std::abs(focus[1]), std::abs(focus[2])}));
   width = std::max(std::isfinite(width) ? width : 0.0, 8 * spacing);
 

@@ -179,11 +179,13 @@ json accuracy_cost_spec(const json& verify, const std::string& family) {
                                              : "ns per test, set-up hoisted (log)";
   const json x = {{"field", "ns"}, {"type", "quantitative"}, {"title", x_title},
                   {"scale", {{"type", "log"}, {"nice", true}}}, {"axis", {{"grid", true}}}};
+  json decades = json::array();
+  for (double t = floor; t <= 1.0000001; t *= 10) decades.push_back(t);
   const json y = {{"field", "y"}, {"type", "quantitative"},
                   {"title", "false intersects / truly outside volumes (log; 95% interval)"},
                   {"scale", {{"type", "log"}, {"domainMin", floor}, {"nice", true}}},
-                  // The floor reads 0: rates of 0 sit on it.
-                  {"axis", {{"labelExpr", fmt::format("datum.value <= {:.17g} ? '0' : format(datum.value, '~%')", floor * 1.000001)}}}};
+                  // Ticks at the powers of ten; the floor reads 0: rates of 0 sit on it.
+                  {"axis", {{"values", decades}, {"labelExpr", fmt::format("datum.value <= {:.17g} ? '0' : format(datum.value, '~%')", floor * 1.000001)}}}};
   json colour = {{"field", "claim"}, {"type", "nominal"}, {"title", "claim"},
                  {"scale", {{"domain", kClaims}, {"range", kClaimColours}}}};
   if (!overall) colour["legend"] = nullptr;
@@ -203,10 +205,11 @@ json accuracy_cost_spec(const json& verify, const std::string& family) {
                     {"encoding", {{"x", x}, {"y", {{"field", "y_lo"}, {"type", "quantitative"}}}, {"y2", {{"field", "y_hi"}}}, {"color", colour}}}});
   // The Pareto fronts: at each cost, the lowest rate a method whose claim held reaches for it.
   // (A layer is drawn only when it has data: an empty one leaves its scales without extent.)
-  bool any_front = false, any_label = false;
+  bool any_front = false, any_refuted = false, any_front_unrefuted = false;
   for (const json& v : values) {
     any_front = any_front || v.at("front").get<bool>();
-    any_label = any_label || v.at("refuted").get<bool>() || (overall && v.at("front").get<bool>());
+    any_refuted = any_refuted || v.at("refuted").get<bool>();
+    any_front_unrefuted = any_front_unrefuted || (v.at("front").get<bool>() && !v.at("refuted").get<bool>());
   }
   json dash = {{"field", "volumes"}, {"type", "nominal"}, {"title", "Pareto front (volume kinds)"}};
   if (!overall) dash["legend"] = nullptr;
@@ -226,9 +229,14 @@ json accuracy_cost_spec(const json& verify, const std::string& family) {
                                   {"description", {{"field", "method"}}}}}});
   // Names of the methods on a front, and of every refuted one.
   const json label_colour = {{"condition", {{"test", "datum.refuted"}, {"value", "#b2182b"}}}, {"value", "#222"}};
-  if (any_label)
-    layers.push_back({{"transform", json::array({{{"filter", std::string(overall ? "datum.front || datum.refuted" : "datum.refuted")}}})},
+  // Names above the points on a front, below the refuted ones (apart where both are near).
+  if (any_front_unrefuted && overall)
+    layers.push_back({{"transform", json::array({{{"filter", "datum.front && !datum.refuted"}}})},
                       {"mark", {{"type", "text"}, {"align", "left"}, {"dx", 7}, {"dy", -7}, {"fontSize", 10}}},
+                      {"encoding", {{"x", x}, {"y", y}, {"text", {{"field", "label"}}}, {"color", label_colour}}}});
+  if (any_refuted)
+    layers.push_back({{"transform", json::array({{{"filter", "datum.refuted"}}})},
+                      {"mark", {{"type", "text"}, {"align", "left"}, {"dx", 7}, {"dy", 11}, {"fontSize", 10}, {"fontWeight", "bold"}}},
                       {"encoding", {{"x", x}, {"y", y}, {"text", {{"field", "label"}}}, {"color", label_colour}}}});
   // The floor where rates of 0 sit.
   layers.push_back({{"data", {{"values", json::array({{{"y", floor}, {"text", "0: none found"}}})}}},

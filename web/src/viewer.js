@@ -309,6 +309,12 @@ export class CaseViewer {
     } else {
       this.layers.volume.add(this.marker(vol.point, COLOURS.volumeEdge, 9));
     }
+    // A dot where the volume is, so that a volume far smaller than the view is still found.
+    if (vol.kind !== 'point') {
+      const centre = vol.kind === 'aabb' ? [0, 1, 2].map((k) => 0.5 * (vol.min[k] + vol.max[k])) : vol.center;
+      const away = this.toView(centre).some((x) => Math.abs(x) > 1);
+      if (!away) this.layers.volume.add(this.marker(centre, COLOURS.volumeEdge, 6));
+    }
     // The witness.
     const w = v.witness;
     if (w.kind === 'point' && w.point) this.layers.witness.add(this.marker(w.point, COLOURS.witness, 11));

@@ -41,7 +41,7 @@ function check(ok, what) {
   else failures.push(what);
 }
 
-export async function launch() {
+async function launch() {
   const executablePath = process.env.CULLPROOF_CHROMIUM || '/usr/bin/chromium';
   if (!fs.existsSync(executablePath))
     throw new Error(`${executablePath} is missing: install Debian's chromium (scripts/install-deps), or set CULLPROOF_CHROMIUM`);
@@ -54,7 +54,7 @@ export async function launch() {
 
 // Opens `file`, recording console errors, uncaught exceptions and requests that are not for
 // the file itself.
-export async function openPage(browser, file, viewport = { width: 1300, height: 900 }) {
+async function openPage(browser, file, viewport = { width: 1300, height: 900 }) {
   const page = await browser.newPage({ viewport });
   const problems = [];
   page.on('console', (m) => {
@@ -120,6 +120,13 @@ async function checkViewer(page, what, shots) {
   check(/^magnified ×\S+ around the error: \S+ units across$/.test(note), `${what}: "zoom to the error" says how much it magnifies: "${note}"`);
   const zoomed = await canvasCounts(page, false);
   check(zoomed.drawn > zoomed.pixels * 0.01, `${what}: the magnified view is not blank (${zoomed.drawn} pixels drawn)`);
+  // Magnified around the error the volume fills much of the view, however small it is.
+  await canvasCounts(page, true);
+  await page.evaluate(() => window.cullproof.viewer.setVisible('volume', false));
+  const zoomedWithout = await canvasCounts(page, false);
+  await page.evaluate(() => window.cullproof.viewer.setVisible('volume', true));
+  check(zoomedWithout.changed >= 200,
+    `${what}: magnified, the volume is drawn (${zoomedWithout.changed} pixels change when it is hidden)`);
   await page.screenshot({ path: path.join(shots, `${what}-3d-zoomed.png`) });
   await page.evaluate(() => window.cullproof.viewer.setMode('scene'));
 }
