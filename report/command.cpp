@@ -47,7 +47,7 @@ int run_report_command(const ReportOptions& o) {
     bool failed = false;
     if (!o.from.empty()) {
       result = read_result(o.from);
-      in.made_by = "cullproof verify --json " + o.from;
+      in.made_by = "cullproof report --from " + o.from;
       summarize(result);  // refuses a malformed result naming the field, before anything is written
     } else {
       VerifyOptions v;

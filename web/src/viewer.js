@@ -249,8 +249,10 @@ export class CaseViewer {
     for (const g of Object.values(this.layers)) {
       for (const o of [...g.children]) {
         g.remove(o);
-        o.geometry.dispose();
-        o.material.dispose();
+        o.traverse((x) => {
+          if (x.geometry) x.geometry.dispose();
+          if (x.material) x.material.dispose();
+        });
       }
     }
     const box = cubePlanes(this.center, this.half);
@@ -282,6 +284,26 @@ export class CaseViewer {
         else if (p[i].edge > j && p[i].edge < 6) solid.push(seg);
       }
     this.layers.frustum.add(this.lines(solid, new THREE.LineBasicMaterial({ color: COLOURS.edge })));
+    // Where an edge of the frustum leaves the view (an infinite far plane, or a frustum larger
+    // than the view), an arrowhead points the way it goes on.
+    for (const { j, p } of faces)
+      for (let i = 0; i < p.length; i++) {
+        const e = p[i].edge;
+        if (!(e > j && e < 6)) continue;
+        const a = p[i].p;
+        const b = p[(i + 1) % p.length].p;
+        const exits = [];
+        if (p[(i + 1) % p.length].edge === CUBE) exits.push([b, a]);
+        if (p[(i + p.length - 1) % p.length].edge === CUBE) exits.push([a, b]);
+        for (const [at, from] of exits) {
+          const tip = new THREE.Vector3(...this.toView(at));
+          const dir = tip.clone().sub(new THREE.Vector3(...this.toView(from)));
+          if (dir.length() === 0) continue;
+          dir.normalize();
+          const arrow = new THREE.ArrowHelper(dir, tip.clone().addScaledVector(dir, -0.1), 0.1, COLOURS.edge, 0.1, 0.045);
+          this.layers.frustum.add(arrow);
+        }
+      }
     this.layers.frustum.add(this.lines(dashed, new THREE.LineDashedMaterial({ color: COLOURS.frustum, dashSize: 0.04, gapSize: 0.03 })));
     // The plane at fault: its face of the frustum, and the whole plane within the view.
     if (v.fault_plane >= 0) {
