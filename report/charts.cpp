@@ -404,8 +404,8 @@ json distance_spec(const json& verify) {
                    {"title", "distance of a false intersect from the frustum / scene size (decades)"},
                    {"axis", {{"labelAngle", -40}}}}},
             {"y", {{"field", "method"}, {"type", "ordinal"}, {"sort", methods}, {"scale", {{"domain", methods}}}, {"title", nullptr}}},
-            {"color", {{"field", "share"}, {"type", "quantitative"}, {"title", "share of the method's false intersects"},
-                       {"scale", {{"scheme", "blues"}, {"domain", {0, 1}}}}, {"legend", {{"format", "%"}}}}},
+            {"color", {{"field", "share"}, {"type", "quantitative"}, {"title", "share of its false intersects"},
+                       {"scale", {{"scheme", "blues"}, {"domain", {0, 1}}}}, {"legend", {{"format", "%"}, {"titleLimit", 260}}}}},
             {"tooltip", tooltip}}}};
 }
 

@@ -72,6 +72,8 @@ int run_report_command(const ReportOptions& o) {
     if (!o.no_corpus && std::filesystem::is_directory(o.corpus)) {
       in.corpus_dir = o.corpus;
       for (const CorpusEntry& e : load_corpus(o.corpus)) in.corpus.push_back(case_view_json(e));
+    } else if (!o.no_corpus) {
+      std::cerr << who << "no corpus section: " << o.corpus << " is not a folder (--corpus DIR, or --no-corpus)\n";
     }
     write_file_atomic(o.out, report_html(result, in, report_js));
     const Summary s = summarize(result);

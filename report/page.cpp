@@ -49,7 +49,8 @@ th { font-weight: 600; color: #444; } td.num { text-align: right; font-variant-n
 .refuted { color: #b2182b; font-weight: 600; } .held { color: #1b7837; font-weight: 600; }
 .grid { display: flex; flex-wrap: wrap; gap: 12px 24px; } .grid > .chart { flex: 0 0 auto; }
 .chart { min-height: 60px; } .chart-error { color: #b2182b; white-space: pre-wrap; }
-a.case-link { font: 12px ui-monospace, monospace; }
+a.case-link { font: 12px ui-monospace, monospace; margin-right: 6px; white-space: nowrap; }
+#broken-claims td:nth-child(6) { max-width: 520px; }
 )css";
 
 std::string summary_html(const Summary& s, const std::set<std::string>& shown_cases) {
@@ -68,8 +69,8 @@ std::string summary_html(const Summary& s, const std::set<std::string>& shown_ca
       for (const FamilyBreak& f : b.families) {
         std::string ids;
         for (const std::string& id : f.corpus_ids)
-          ids += shown_cases.count(id) ? fmt::format("<a class=\"case-link\" href=\"#case={0}\">{0}</a><br>", html_escape(id))
-                                       : fmt::format("<code>{}</code><br>", html_escape(id));
+          ids += shown_cases.count(id) ? fmt::format("<a class=\"case-link\" href=\"#case={0}\">{0}</a> ", html_escape(id))
+                                       : fmt::format("<code>{}</code> ", html_escape(id));
         if (ids.empty()) ids = "none recorded";
         h += fmt::format(
             "<tr><td><b>{}</b></td><td>{}</td><td class=\"refuted\">{} REFUTED</td><td>{}</td><td class=\"num\">{}{}</td>"
