@@ -6,6 +6,7 @@
 //                    [--external NAME|all ... [--external-timeout MS] -- PROGRAM ARGS...]
 //                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
 //   cullproof corpus list|show ID|replay [--dir DIR] [--strict] [--external NAME|all -- PROGRAM ARGS...]
+//   cullproof report [--from FILE | verify's options] [--out FILE] [--corpus DIR | --no-corpus]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
 //
 // Machine interface (keep stable): `methods --json` prints a JSON array of objects with at least
@@ -21,6 +22,11 @@
 #endif
 #ifdef CULLPROOF_HAVE_SIM
 #include "cullproof/simulate_cli.hpp"
+#endif
+#ifdef CULLPROOF_HAVE_REPORT
+#include "cullproof/case_view.hpp"
+#include "cullproof/report_cli.hpp"
+#include "cullproof/summary.hpp"
 #endif
 
 #include <CLI/CLI.hpp>
@@ -189,6 +195,9 @@ int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const s
   for (const auto& d : r.distributions)
     for (const auto& m : d.methods) written += m.corpus_written.size();
   if (opt.corpus) std::cout << "corpus: " << written << " new case(s) written under " << opt.corpus->string() << "\n";
+#ifdef CULLPROOF_HAVE_REPORT
+  report::print_summary(report::summarize(to_json(r)), std::cout);
+#endif
   if (r.claim_broken()) {
     std::cout << "FAILED: a claim of one of cullproof's own methods or of a user's method was refuted (see REFUTED above)\n";
     return 1;
@@ -403,6 +412,12 @@ static int run(int argc, char** argv) {
   corpus_cmd->add_option("--dir", corpus_root, "Corpus directory")->capture_default_str();
   bool strict = false;
   corpus_cmd->add_flag("--strict", strict, "replay: fail unless every case still fails as recorded");
+  std::string corpus_html, corpus_svg, corpus_zoom_svg;
+#ifdef CULLPROOF_HAVE_REPORT
+  corpus_cmd->add_option("--html", corpus_html, "show: write the case in 3D as a self-contained page to FILE");
+  corpus_cmd->add_option("--svg", corpus_svg, "show: write its three-view drawing (front, top, side) to FILE");
+  corpus_cmd->add_option("--zoom-svg", corpus_zoom_svg, "show: the same, magnified around the error, to FILE");
+#endif
   external_options(corpus_cmd);
 #endif
 
@@ -413,6 +428,10 @@ static int run(int argc, char** argv) {
 
 #ifdef CULLPROOF_HAVE_ORACLE
   external_options(classify_cmd);
+#endif
+#ifdef CULLPROOF_HAVE_REPORT
+  report::ReportOptions report_opt;
+  auto* report_cmd = report::add_report_subcommand(app, report_opt);
 #endif
 
   // Everything after the first '--' is the external program's command line, taken before the
@@ -443,6 +462,9 @@ static int run(int argc, char** argv) {
 #ifdef CULLPROOF_HAVE_SIM
     if (*simulate_cmd) return cullproof::sim::run_simulate_command(sim_opt);
 #endif
+#ifdef CULLPROOF_HAVE_REPORT
+    if (*report_cmd) return report::run_report_command(report_opt);
+#endif
 #ifdef CULLPROOF_HAVE_ORACLE
     if (*verify_cmd) {
       vopt.corpus = no_corpus ? std::nullopt : std::optional<std::filesystem::path>(corpus_dir);
@@ -460,6 +482,15 @@ static int run(int argc, char** argv) {
         std::cerr << "cullproof corpus rerecord: needs a method name (see 'cullproof methods')\n";
         return 2;
       }
+#ifdef CULLPROOF_HAVE_REPORT
+      if (!(corpus_html.empty() && corpus_svg.empty() && corpus_zoom_svg.empty())) {
+        if (corpus_action != "show") {
+          std::cerr << "cullproof corpus: --html, --svg and --zoom-svg are for show\n";
+          return 2;
+        }
+        return report::write_case_files(corpus_root, corpus_id, corpus_html, corpus_svg, corpus_zoom_svg);
+      }
+#endif
       if (!external.empty() && corpus_action != "replay") {
         std::cerr << "cullproof corpus: --external is for replay\n";
         return 2;

@@ -487,10 +487,19 @@ std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint
                      m.name);
 }
 
-// Writes one corpus case; returns its id, or "" when the same geometry is already recorded.
+// What write_corpus_case recorded: the case's id, whether this run wrote it (false: the same
+// geometry was recorded already, by an earlier run or meanwhile by another thread), and whether
+// the record breaks the method's claim (its "violates_claim").
+struct CorpusRecord {
+  std::string id;
+  bool written = false;
+  bool violates = false;
+};
+
+// Writes one corpus case unless the same geometry is already recorded.
 // `path`: the camera path a stateful method's error needs to reproduce, recorded with the case
 // (the other stateful methods' verdicts are taken over it too).
-std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g, const Method& m, Visibility verdict,
+CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& g, const Method& m, Visibility verdict,
                               gen::Distribution d, std::uint64_t seed, std::uint64_t index,
                               const std::vector<Method>& all, const PathCase* path = nullptr) {
   const oracle::Result r = oracle::classify(g.frustum, g.volume);
@@ -513,7 +522,8 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
   const double scale = gen::case_scale(g.frustum, g.volume);
   const double backward = backward_distance(g.frustum, g.volume, cls);
   const bool exact_case = gen::float_exact(g.frustum, g.volume);
-  x["violates_claim"] = violates_claim(m.claim, cls, std::min(r.distance, backward), m.tolerance, scale, exact_case);
+  const bool violates = violates_claim(m.claim, cls, std::min(r.distance, backward), m.tolerance, scale, exact_case);
+  x["violates_claim"] = violates;
   x["float_exact"] = exact_case;
   x["backward_distance"] = std::isfinite(backward) ? nlohmann::json(backward) : nlohmann::json(nullptr);
   x["distribution"] = std::string(gen::to_string(d));
@@ -532,14 +542,14 @@ std::string write_corpus_case(const std::filesystem::path& dir, const GenCase& g
       verdicts[o.name] = std::string(to_string(*v));
   x["verdicts"] = verdicts;
   const auto file = dir / m.name / gen::to_string(d) / fmt::format("{}-{}.json", to_string(cls), hash);
-  if (std::filesystem::exists(file)) return "";
+  if (std::filesystem::exists(file)) return {c.id, false, violates};
   try {
     write_case_file(file, c, /*overwrite=*/false);
   } catch (const std::runtime_error&) {
-    if (std::filesystem::exists(file)) return "";  // written meanwhile: the same geometry
+    if (std::filesystem::exists(file)) return {c.id, false, violates};  // written meanwhile: the same geometry
     throw;
   }
-  return c.id;
+  return {c.id, true, violates};
 }
 
 // A frame's volumes split by kind, for classify_batch.
@@ -913,6 +923,7 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
       s.claim = m.claim;
       s.origin = m.origin;
       s.three_way = m.three_way;
+      s.volumes = m.volumes;
       std::map<ErrorClass, int> written, violations_written;
       for (std::uint64_t i = 0; i < per; ++i) {
         if (out[i].verdict[k] < 0) continue;
@@ -978,9 +989,12 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
             fault(opt, m, d, first + i, small, e.what(), path ? &*path : nullptr);
           }
           if (!vs) continue;
-          const std::string id =
+          const CorpusRecord rec =
               write_corpus_case(*opt.corpus, small, m, *vs, d, opt.seed, first + i, ms, path ? &*path : nullptr);
-          if (!id.empty()) s.corpus_written.push_back(id);
+          if (rec.written) s.corpus_written.push_back(rec.id);
+          // Evidence of a counted violation that the shrunk case still shows (shrinking keeps it).
+          if (violation && rec.violates && std::find(s.violation_ids.begin(), s.violation_ids.end(), rec.id) == s.violation_ids.end())
+            s.violation_ids.push_back(rec.id);
         }
       }
       if (opt.timing) {
@@ -1058,6 +1072,40 @@ void print_tables(const VerifyResult& r, std::ostream& out) {
   out << fmt::format("wall time {:.1f} s\n", r.wall_seconds);
 }
 
+namespace {
+
+nlohmann::json volume_names(unsigned bits) {
+  nlohmann::json a = nlohmann::json::array();
+  for (unsigned k : {kPointKind, kSphereKind, kAabbKind, kObbKind})
+    if (bits & k) a.push_back(std::string(volume_kind_name(k)));
+  return a;
+}
+
+}  // namespace
+
+nlohmann::json fi_distance_histogram(const std::vector<double>& distances) {
+  std::vector<std::uint64_t> counts(kFiHistogramLastDecade - kFiHistogramFirstDecade, 0);
+  std::uint64_t below = 0, above = 0;
+  for (const double x : distances) {
+    // Decade k holds [10^k, 10^(k+1)); the bounds are compared with the exact powers of ten
+    // as double rounds them, so a distance of exactly 10^k lands in decade k.
+    if (!(x >= std::pow(10.0, kFiHistogramFirstDecade))) {
+      ++below;
+      continue;
+    }
+    if (x >= std::pow(10.0, kFiHistogramLastDecade)) {
+      ++above;
+      continue;
+    }
+    int k = int(std::floor(std::log10(x)));
+    if (x < std::pow(10.0, k)) --k;  // log10 rounded up across a power of ten
+    else if (x >= std::pow(10.0, k + 1)) ++k;
+    k = std::clamp(k, kFiHistogramFirstDecade, kFiHistogramLastDecade - 1);
+    ++counts[std::size_t(k - kFiHistogramFirstDecade)];
+  }
+  return {{"first_decade", kFiHistogramFirstDecade}, {"counts", counts}, {"below", below}, {"above", above}};
+}
+
 nlohmann::json to_json(const VerifyResult& r) {
   nlohmann::json j;
   j["seed"] = r.options.seed;
@@ -1100,7 +1148,10 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"ns_setup_per_frame", std::isfinite(m.ns_setup_per_frame) ? nlohmann::json(m.ns_setup_per_frame) : nlohmann::json(nullptr)},
                                {"timed_batch", m.timed_batch},
                                {"ns_per_test_own", std::isfinite(m.ns_per_test_own) ? nlohmann::json(m.ns_per_test_own) : nlohmann::json(nullptr)},
-                               {"corpus_written", m.corpus_written}});
+                               {"fi_distance_histogram", fi_distance_histogram(m.fi_distance)},
+                               {"volumes", volume_names(m.volumes)},
+                               {"corpus_written", m.corpus_written},
+                               {"violation_ids", m.violation_ids}});
     }
     j["distributions"].push_back(jd);
   }

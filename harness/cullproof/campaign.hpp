@@ -140,6 +140,7 @@ struct MethodStats {
   Claim claim = Claim::none;
   Origin origin = Origin::user;
   bool three_way = true;
+  unsigned volumes = 0;     ///< the volume kinds the method takes (VolumeKind bits)
   std::uint64_t cases = 0;  ///< cases the method applies to
   std::uint64_t truth_outside = 0, truth_intersecting = 0, truth_inside = 0;
   std::uint64_t false_reject = 0, false_inside = 0, false_intersect = 0, under_inside = 0;
@@ -155,6 +156,9 @@ struct MethodStats {
   /// classification, without the protocol's messages); NaN when it reports nothing.
   double ns_per_test_own = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> corpus_written;  ///< ids of corpus cases written by this run
+  /// Ids of the corpus cases that record this run's claim violations (up to 4 per error class),
+  /// written now or recorded already by an earlier run with the same seed. Empty without a corpus.
+  std::vector<std::string> violation_ids;
   bool refuted() const noexcept { return claim_violations > 0; }
 };
 
@@ -183,8 +187,16 @@ VerifyResult run_verify(const VerifyOptions& options, const std::vector<Method>&
 VerifyResult run_verify(const VerifyOptions& options);
 /// One table per distribution (the README format).
 void print_tables(const VerifyResult& r, std::ostream& out);
-/// The whole result for scripts.
+/// The whole result for scripts (and for `cullproof report`).
 nlohmann::json to_json(const VerifyResult& r);
+
+/// The false-intersect distances (relative to the scene size) counted per decade:
+/// {"first_decade": k0, "counts": [...], "below": n, "above": n}, where counts[i] holds the
+/// distances in [10^(k0+i), 10^(k0+i+1)), "below" those under 10^k0 and "above" those of
+/// 10^kFiHistogramLastDecade or more. Counts of several runs or distributions add up.
+nlohmann::json fi_distance_histogram(const std::vector<double>& distances);
+inline constexpr int kFiHistogramFirstDecade = -16;  ///< rounding of double at the scene's scale
+inline constexpr int kFiHistogramLastDecade = 2;     ///< a hundred scene sizes away
 
 /// Wilson score interval (95%) for k successes in n trials: {low, high}; {0, 0} when n == 0.
 std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept;
