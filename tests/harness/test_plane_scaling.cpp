@@ -114,6 +114,6 @@ RC_GTEST_PROP(PlaneScaling, PowersOfTwoChangeNoTruthAndNoCertifiedVerdictGoesWro
                         gen::float_exact(s.frustum, s.volume)))
       continue;
     RC_FAIL(m.name + " says " + std::string(to_string(*v)) + " on " + std::string(gen::to_string(d)) +
-            " with its planes scaled, truth " + std::string(to_string(truth)) + " (" + to_string(cls) + ")");
+            " with its planes scaled, truth " + std::string(to_string(truth)) + " (" + std::string(to_string(cls)) + ")");
   }
 }
