@@ -767,7 +767,6 @@ GenCase hard_case(Distribution d) {
   return generic_case(d);
 }
 
-
 // The whole float range ------------------------------------------------------------------------
 //
 // Generic scenes carried to the ends of the float range by exact scalings, and volumes and
@@ -871,7 +870,7 @@ int scale_to(GenCase& g, double length, int target) {
   }
 }
 
-// Plane k times 2^j so that its largest coefficient has exponent `target` (the same half-space;
+// Plane p times 2^j so that its largest coefficient has exponent `target` (the same half-space;
 // exact unless it goes subnormal). A normal that would round to zero is kept a power of two
 // larger, so that the plane stays what it was (a plane, not all space or nothing).
 void scale_plane_to(Plane& p, int target) {
@@ -1042,8 +1041,9 @@ GenCase subnormal_case() {
     return g;
   }
   if (kind < 75) {
-    // Planes with subnormal coefficients (largest at 2^-146 .. 2^-127), ordinary volumes: every
-    // product n_i x_i with |x_i| < 2^23 underflows.
+    // Planes with subnormal coefficients (largest at 2^-146 .. 2^-127), ordinary volumes: a
+    // product n_i x_i underflows wherever it is below 2^-126, which with these coefficients is
+    // at every coordinate below 2 in magnitude, and at larger ones for the smaller coefficients.
     GenCase g = make(cam, p, around(p));
     for (Plane& pl : g.frustum.planes.planes) scale_plane_to(pl, *rc::gen::inRange(-146, -126));
     return g;
