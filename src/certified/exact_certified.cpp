@@ -777,9 +777,16 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
     for (int i = 0; i < 3; ++i) x[i] = c[i] + eta * (f.interior[std::size_t(i)] - c[i]);
     if (sphere_witness(f, J, s, x)) return Tri::yes;
   }
-  // The nearest feasible projection onto the planes of a subset of J.
-  double best = std::numeric_limits<double>::infinity(), best_x[3] = {0, 0, 0}, best_lambda[3] = {0, 0, 0};
-  int best_S[3] = {0, 0, 0}, best_k = -1;
+  // The nearest feasible projection onto the planes of a subset of J, feasible to within a strict
+  // tolerance (a few dozen units of u of the magnitude) and to within a loose one (1e-9 of it,
+  // for ill-conditioned planes whose projections round more): the strict one is tried first.
+  struct Nearest {
+    double dist2 = std::numeric_limits<double>::infinity();
+    double x[3] = {0, 0, 0};
+    double lambda[3] = {0, 0, 0};
+    int S[3] = {0, 0, 0};
+    int k = -1;
+  } strict, loose;
   auto consider = [&](const int* S, int k, const double* mu) {
     double x[3] = {c[0], c[1], c[2]}, dist2 = 0.0;
     for (int q = 0; q < k; ++q) {
@@ -789,16 +796,21 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
       x[2] -= mu[q] * p.nz;
       dist2 += mu[q] * sc[S[q]];
     }
-    if (!(dist2 < best)) return;
+    if (!(dist2 < loose.dist2 || dist2 < strict.dist2)) return;
     const double xm = max_abs3(x);
+    double worst = 0.0;  // the most negative plane value over the magnitude
     for (int q = 0; q < m; ++q) {
       const ExactCertifiedPlane& p = f.plane[std::size_t(js[q])];
-      if (plane_at(p, x) < -1e-9 * (p.a * xm + p.ad)) return;  // not in P_J (approximately)
+      worst = std::min(worst, plane_at(p, x) / (p.a * xm + p.ad));
     }
-    best = dist2;
-    best_k = k;
-    for (int i = 0; i < 3; ++i) best_x[i] = x[i];
-    for (int q = 0; q < k; ++q) best_S[q] = S[q], best_lambda[q] = std::max(0.0, -mu[q]);
+    auto keep = [&](Nearest& n) {
+      n.dist2 = dist2;
+      n.k = k;
+      for (int i = 0; i < 3; ++i) n.x[i] = x[i];
+      for (int q = 0; q < k; ++q) n.S[q] = S[q], n.lambda[q] = std::max(0.0, -mu[q]);
+    };
+    if (worst >= -64.0 * kU && dist2 < strict.dist2) keep(strict);
+    if (worst >= -1e-9 && dist2 < loose.dist2) keep(loose);
   };
   const auto& G = f.gram;
   for (int qa = 0; qa < m; ++qa) {
@@ -827,26 +839,28 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
       }
     }
   }
-  if (best_k < 0) return Tri::unknown;
   const double r2 = r * r;
-  if (best < r2) {
-    if (f.has_interior) {
+  auto prove = [&](const Nearest& n) {
+    if (n.k < 0) return Tri::unknown;
+    if (n.dist2 < r2) {
+      if (!f.has_interior) return Tri::unknown;
       // Pull the projection towards g by half the room left in the ball.
-      const double d = std::sqrt(std::max(0.0, best));
+      const double d = std::sqrt(std::max(0.0, n.dist2));
       double gx[3], gl = 0.0;
-      for (int i = 0; i < 3; ++i) gx[i] = f.interior[std::size_t(i)] - best_x[i], gl += gx[i] * gx[i];
+      for (int i = 0; i < 3; ++i) gx[i] = f.interior[std::size_t(i)] - n.x[i], gl += gx[i] * gx[i];
       gl = std::sqrt(gl);
-      if (gl > 0.0) {
-        const double eta = std::min(1.0, 0.5 * (r - d) / gl);
-        double x[3];
-        for (int i = 0; i < 3; ++i) x[i] = best_x[i] + eta * gx[i];
-        if (sphere_witness(f, J, s, x)) return Tri::yes;
-      }
+      if (!(gl > 0.0)) return Tri::unknown;
+      const double eta = std::min(1.0, 0.5 * (r - d) / gl);
+      double x[3];
+      for (int i = 0; i < 3; ++i) x[i] = n.x[i] + eta * gx[i];
+      return sphere_witness(f, J, s, x) ? Tri::yes : Tri::unknown;
     }
+    if (n.dist2 > r2 && sphere_farkas(f, sc, wc, n.S, n.k, n.lambda, r)) return Tri::no;
     return Tri::unknown;
-  }
-  if (best > r2 && sphere_farkas(f, sc, wc, best_S, best_k, best_lambda, r)) return Tri::no;
-  return Tri::unknown;
+  };
+  const Tri first = prove(strict);
+  if (first != Tri::unknown || (loose.k == strict.k && loose.dist2 == strict.dist2)) return first;
+  return prove(loose);
 }
 
 }  // namespace
