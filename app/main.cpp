@@ -260,7 +260,7 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
     for (const auto& e : entries) {
       const auto d = e.c.extra.find("distance");
       const std::string dist = d != e.c.extra.end() && d->is_number() ? fmt_distance(d->get<double>()) : "-";
-      std::printf("%-48s %-22s %-16s %-18s %s\n", e.c.id.c_str(), e.method.c_str(), to_string(e.error),
+      std::printf("%-48s %-22s %-16s %-18s %s\n", e.c.id.c_str(), e.method.c_str(), std::string(to_string(e.error)).c_str(),
                   e.distribution.c_str(), dist.c_str());
     }
     std::printf("%zu cases\n", entries.size());
@@ -283,7 +283,7 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
         if (!v) continue;
         const ErrorClass cls = error_class(*v, t.truth, m.three_way);
         std::printf("  %-26s %-13s %s\n", m.name.c_str(), std::string(to_string(*v)).c_str(),
-                    cls == ErrorClass::correct ? "" : to_string(cls));
+                    cls == ErrorClass::correct ? "" : std::string(to_string(cls)).c_str());
       }
       std::cout << "where the volume lies, plane by plane (normalised):\n" << describe_planes(e.c);
       std::cout << "witness: " << t.witness.dump() << "\n";

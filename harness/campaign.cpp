@@ -23,7 +23,7 @@
 
 namespace cullproof {
 
-const char* to_string(ErrorClass e) noexcept {
+std::string_view to_string(ErrorClass e) noexcept {
   switch (e) {
     case ErrorClass::correct: return "correct";
     case ErrorClass::false_reject: return "false-reject";

@@ -283,7 +283,7 @@ Volume volume_at(Shape shape, const glm::dvec3& c, double s) {
   return Obb{cf, rotation(), glm::vec3(float(s * in(0.1, 1)), float(s * in(0.1, 1)), float(s * in(0.1, 1)))};
 }
 
-// Corners of face k of a placement frustum (CONVENTIONS plane order), and its outward normal.
+// Corners of face k of a placement frustum (docs/semantics.md plane order), and its outward normal.
 const int kFaceCorners[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
 
 glm::dvec3 point_on_face(const Placement& p, int face) {

@@ -17,7 +17,7 @@ namespace cullproof::oracle::detail {
 template <class T>
 using Coeffs = std::array<T, 4>;
 
-/// The six planes of f in CONVENTIONS order, exactly: as given, or Gribb–Hartmann row sums of
+/// The six planes of f in the plane order of docs/semantics.md, exactly: as given, or Gribb–Hartmann row sums of
 /// the float matrix entries formed in T (exact when T is an exact type; an enclosure when T is
 /// an interval type). `conv` maps a float to T losslessly.
 template <class T, class Conv>

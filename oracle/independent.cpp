@@ -1,4 +1,4 @@
-// The oracle's second, independent exact method (issue 3, item 5). It exists only to
+// The oracle's second, independent exact method. It exists only to
 // cross-check classify(): it shares no geometry code, no number type and no algorithm with it.
 //  - Its own Gribb–Hartmann extraction and box parametrisation, in CGAL::Gmpq (rationals).
 //  - Boxes and points: containment by evaluating the 8 corners in x-space; otherwise the

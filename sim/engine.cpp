@@ -2,7 +2,7 @@
 // node test chosen per configuration (node_tests.hpp; the baseline and TR coherency call the
 // library, cull.hpp perspective_transform and cull_coherence.hpp TrCoherencyCuller).
 //
-// When each optimisation is used (issue 8: only when the scene keeps it valid):
+// When each optimisation is used (only when the scene keeps it valid):
 //  - octant: only when OctantCuller accepts the frame's frustum (bounded and symmetric, A&M §3.3
 //    and footnote 6); otherwise the configuration falls back to plane coherency alone;
 //  - TR coherency: only in frames whose camera motion TrCoherencyCuller classifies as still, a

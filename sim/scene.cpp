@@ -16,7 +16,7 @@ using nlohmann::json;
 SceneError::SceneError(std::string file, std::string field, const std::string& problem)
     : std::runtime_error(file + ": " + field + ": " + problem), file_(std::move(file)), field_(std::move(field)) {}
 
-const char* to_string(ProjectionKind k) noexcept {
+std::string_view to_string(ProjectionKind k) noexcept {
   switch (k) {
     case ProjectionKind::perspective: return "perspective";
     case ProjectionKind::off_axis: return "off-axis";
@@ -26,7 +26,7 @@ const char* to_string(ProjectionKind k) noexcept {
   return "?";
 }
 
-const char* to_string(PathKind k) noexcept {
+std::string_view to_string(PathKind k) noexcept {
   switch (k) {
     case PathKind::navigation: return "navigation";
     case PathKind::translation_rotation: return "translation-rotation";
@@ -44,7 +44,7 @@ std::optional<PathKind> path_kind_from_string(const std::string& s) {
   return std::nullopt;
 }
 
-const char* to_string(FrameMotion m) noexcept {
+std::string_view to_string(FrameMotion m) noexcept {
   switch (m) {
     case FrameMotion::first: return "first";
     case FrameMotion::still: return "still";

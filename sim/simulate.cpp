@@ -4,7 +4,7 @@
 // path, every configuration culls every view of the frame with the state it kept from earlier
 // frames. Verification: each configuration's visible set implies a verdict for every leaf
 // (culled: outside; reported: inside or intersecting); the oracle's exact truth for the leaf's
-// box against the frame's float planes (CONVENTIONS "Ground truth") classifies it (campaign.hpp
+// box against the frame's float planes (docs/semantics.md "The truth") classifies it (campaign.hpp
 // error_class). Checked leaves: all of them with --exhaustive, else `samples` random leaves per
 // frame and view plus every leaf on which two configurations disagree. The perspective-transform
 // baseline works on the clip matrix: a leaf it gets "wrong" against the float planes is judged
@@ -17,6 +17,7 @@
 #include "cullproof/case_io.hpp"
 #include "cullproof/oracle.hpp"
 #include "engine.hpp"
+#include "splitmix.hpp"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -33,7 +34,7 @@ namespace cullproof::sim {
 
 using nlohmann::json;
 
-const char* to_string(Config c) noexcept {
+std::string_view to_string(Config c) noexcept {
   switch (c) {
     case Config::perspective_transform: return "perspective-transform";
     case Config::basic_np: return "basic-np";
@@ -71,16 +72,6 @@ std::uint64_t SimResult::forbidden_errors() const noexcept {
 }
 
 namespace {
-
-struct Rng {
-  std::uint64_t s;
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-};
 
 double now_ns() {
   return static_cast<double>(
@@ -135,7 +126,7 @@ std::vector<Optimisation> decide_optimisations(const SceneDesc& scene, const Wor
     }
   }
   const int views = static_cast<int>(path.size()) * (scene.projection.kind == ProjectionKind::stereo ? 2 : 1);
-  const std::string proj = to_string(scene.projection.kind);
+  const std::string proj(to_string(scene.projection.kind));
   if (refused == 0)
     out.push_back({"octant", "enabled", "every projection of the path is bounded and symmetric (" + proj + "; decided once per projection, verdicts checked every frame)"});
   else
@@ -219,6 +210,201 @@ std::vector<Optimisation> decide_optimisations(const SceneDesc& scene, const Wor
   return out;
 }
 
+namespace {
+
+// One simulation run: every configuration over every view of every frame, its verdicts checked
+// against the oracle, the mismatches recorded (and, up to a budget per configuration, written).
+class Simulation {
+ public:
+  Simulation(const SceneDesc& scene, World& world, const SimulateOptions& opt, SimResult& r)
+      : scene_(scene), world_(world), opt_(opt), r_(r), engine_(world, r.views_per_frame), outs_(r.configs.size()),
+        leafv_(r.configs.size()), written_(r.configs.size(), 0), L_(world.leaf_count()) {}
+
+  void frame(int f, const CameraFrame& cam, bool proj_changed, const std::vector<std::uint32_t>& moved) {
+    const std::vector<View> views = frame_views(scene_.projection, cam);
+    for (int v = 0; v < static_cast<int>(views.size()); ++v) {
+      const View& view = views[static_cast<std::size_t>(v)];
+      for (std::size_t ci = 0; ci < r_.configs.size(); ++ci) run_config(ci, f, v, cam, view, proj_changed, moved);
+      if (opt_.verify) check_view(f, v, cam, view);
+    }
+  }
+
+ private:
+  // The configuration's traversal of one view, timed, recorded, and its verdicts kept per leaf.
+  void run_config(std::size_t ci, int f, int v, const CameraFrame& cam, const View& view, bool proj_changed,
+                  const std::vector<std::uint32_t>& moved) {
+    const Config c = r_.configs[ci];
+    detail::Output& out = outs_[ci];
+    const double t0 = now_ns();
+    engine_.setup(c, v, view, proj_changed, moved);
+    engine_.run(c, v, out, true);
+    const double t1 = now_ns();
+    FrameRecord rec;
+    rec.frame = f;
+    rec.view = v;
+    rec.motion = cam.motion;
+    rec.config = c;
+    rec.moved_nodes = static_cast<std::uint32_t>(moved.size());
+    const detail::ConfigView& st = engine_.state(c, v);
+    rec.tr_used = (c == Config::pc_tr || c == Config::pc_octant_tr) && st.tr_used;
+    rec.octant_used = (c == Config::pc_octant || c == Config::pc_octant_tr) && st.octant_ok && !rec.tr_used;
+    rec.c.nodes_visited = out.visited;
+    rec.c.plane_tests = out.tests;
+    rec.c.leaves = L_;
+    rec.c.visible = out.leaves.size();
+    for (std::uint8_t vv : out.verdicts) rec.c.inside += vv == static_cast<std::uint8_t>(Visibility::inside);
+    rec.c.tr_frames = rec.tr_used;
+    rec.c.octant_frames = rec.octant_used;
+    rec.c.time_ns = t1 - t0;
+    r_.records.push_back(rec);
+    auto& lv = leafv_[ci];
+    lv.assign(L_, static_cast<std::uint8_t>(Visibility::outside));
+    for (std::size_t k = 0; k < out.leaves.size(); ++k) lv[out.leaves[k]] = out.verdicts[k];
+  }
+
+  // Every leaf when exhaustive; else opt.samples random leaves (seeded by seed, frame and view)
+  // and every leaf on which the configurations disagree.
+  std::vector<std::uint32_t> leaves_to_check(int f, int v) const {
+    std::vector<std::uint32_t> cand;
+    if (opt_.exhaustive) {
+      cand.resize(L_);
+      for (std::uint32_t k = 0; k < L_; ++k) cand[k] = k;
+      return cand;
+    }
+    std::set<std::uint32_t> s;
+    SplitMix64 rng{opt_.seed * 1000003ull + static_cast<std::uint64_t>(f) * 7919ull + static_cast<std::uint64_t>(v)};
+    for (int k = 0; k < opt_.samples && L_ > 0; ++k) s.insert(static_cast<std::uint32_t>(rng.next() % L_));
+    for (std::uint32_t k = 0; k < L_; ++k)
+      for (std::size_t ci = 1; ci < r_.configs.size(); ++ci)
+        if (leafv_[ci][k] != leafv_[0][k]) {
+          s.insert(k);
+          break;
+        }
+    cand.assign(s.begin(), s.end());
+    return cand;
+  }
+
+  // The view's records (the last ones pushed) gain their error counts; a false reject or false
+  // inside becomes a mismatch.
+  void check_view(int f, int v, const CameraFrame& cam, const View& view) {
+    const std::vector<std::uint32_t> cand = leaves_to_check(f, v);
+    const CaseFrustum spec = frustum_spec(view.frustum);
+    std::vector<std::uint8_t> truth(cand.size());
+    tbb::parallel_for(std::size_t(0), cand.size(), [&](std::size_t i) {
+      truth[i] = static_cast<std::uint8_t>(oracle::truth(spec, Volume(world_.bvh.prim_boxes[cand[i]])));
+    });
+    const std::size_t first_rec = r_.records.size() - r_.configs.size();
+    for (std::size_t ci = 0; ci < r_.configs.size(); ++ci) {
+      FrameRecord& rec = r_.records[first_rec + ci];
+      const Config c = r_.configs[ci];
+      rec.c.checked = cand.size();
+      for (std::size_t i = 0; i < cand.size(); ++i) {
+        const auto verdict = static_cast<Visibility>(leafv_[ci][cand[i]]);
+        Visibility t = static_cast<Visibility>(truth[i]);
+        ErrorClass e = error_class(verdict, t);
+        if ((e == ErrorClass::false_reject || e == ErrorClass::false_inside) && c == Config::perspective_transform) {
+          t = oracle::truth(frustum_spec(view.clip, view.depth), Volume(world_.bvh.prim_boxes[cand[i]]));
+          e = error_class(verdict, t);
+        }
+        switch (e) {
+          case ErrorClass::false_reject: ++rec.c.false_reject; break;
+          case ErrorClass::false_inside: ++rec.c.false_inside; break;
+          case ErrorClass::false_intersect: ++rec.c.false_intersect; break;
+          case ErrorClass::under_inside: ++rec.c.under_inside; break;
+          default: break;
+        }
+        if (e == ErrorClass::false_reject || e == ErrorClass::false_inside)
+          mismatch(ci, f, v, cam, view, spec, cand[i], verdict, t, e);
+      }
+    }
+  }
+
+  // The node that decided a leaf's wrong verdict: its highest visited ancestor that was outside
+  // or inside.
+  std::uint32_t decider(std::size_t ci, std::uint32_t leaf) const {
+    std::uint32_t d = world_.leaf_node[leaf];
+    const auto& nv = outs_[ci].node_verdict;
+    for (std::int32_t n = static_cast<std::int32_t>(d); n >= 0; n = world_.parent[static_cast<std::size_t>(n)]) {
+      const std::uint8_t x = nv.empty() ? 255 : nv[static_cast<std::size_t>(n)];
+      if (x == static_cast<std::uint8_t>(Visibility::outside) || x == static_cast<std::uint8_t>(Visibility::inside))
+        d = static_cast<std::uint32_t>(n);
+    }
+    return d;
+  }
+
+  void mismatch(std::size_t ci, int f, int v, const CameraFrame& cam, const View& view, const CaseFrustum& spec,
+                std::uint32_t leaf, Visibility verdict, Visibility t, ErrorClass e) {
+    const Config c = r_.configs[ci];
+    Mismatch mm;
+    mm.frame = f;
+    mm.view = v;
+    mm.config = c;
+    mm.leaf = leaf;
+    mm.error = to_string(e);
+    mm.node = decider(ci, leaf);
+    if (opt_.write_corpus && written_[ci] < opt_.corpus_per_config) {
+      ++written_[ci];
+      mm.file = write_mismatch(mm, cam, view, spec, verdict, t);
+    }
+    r_.mismatches.push_back(mm);
+  }
+
+  // The deciding node's box as a corpus case, with the state of the configuration that produced
+  // the verdict (plane-coherency cache, TR coherency, octant).
+  std::string write_mismatch(const Mismatch& mm, const CameraFrame& cam, const View& view, const CaseFrustum& spec,
+                             Visibility verdict, Visibility t) {
+    const Config c = mm.config;
+    Case cs;
+    cs.id = fmt::format("scene-{}-{}-f{}-v{}-n{}", scene_.name, to_string(c), mm.frame, mm.view, mm.node);
+    cs.frustum = c == Config::perspective_transform ? frustum_spec(view.clip, view.depth) : spec;
+    cs.volume = world_.bvh.nodes[mm.node].box;
+    cs.truth = oracle::truth(cs.frustum, cs.volume);
+    cs.note = fmt::format("scene simulation: {} gave {} for leaf {} (truth {})", to_string(c),
+                          std::string(cullproof::to_string(verdict)), mm.leaf, std::string(cullproof::to_string(t)));
+    const detail::ConfigView& st = engine_.state(c, mm.view);
+    const TrObjectState& trs = st.tr[mm.node];
+    json tr = {{"test_frame", trs.test_frame},
+               {"outside_bits", trs.outside_bits},
+               {"angle_at_test", trs.angle_at_test},
+               {"p_value", std::vector<float>(trs.p_value, trs.p_value + 6)},
+               {"n_value", std::vector<float>(trs.n_value, trs.n_value + 6)},
+               {"box", box_json(trs.box)}};
+    cs.extra = json{{"scene", scene_.file},
+                    {"scene_name", scene_.name},
+                    {"frame", mm.frame},
+                    {"view", mm.view},
+                    {"camera_motion", to_string(cam.motion)},
+                    {"method", to_string(c)},
+                    {"verdict", std::string(cullproof::to_string(verdict))},
+                    {"error", mm.error},
+                    {"leaf", mm.leaf},
+                    {"leaf_box", box_json(world_.bvh.prim_boxes[mm.leaf])},
+                    {"node", mm.node},
+                    {"cached_state",
+                     {{"plane_coherency_last_plane", st.pc[mm.node]},
+                      {"tr_used", st.tr_used},
+                      {"tr_reason", st.tr_why},
+                      {"octant_used", st.octant_ok},
+                      {"tr", tr}}}};
+    const std::filesystem::path file = std::filesystem::path(opt_.corpus_dir) / (cs.id + ".json");
+    std::filesystem::create_directories(file.parent_path());
+    write_case_file(file, cs, true);
+    return file.string();
+  }
+
+  const SceneDesc& scene_;
+  World& world_;
+  const SimulateOptions& opt_;
+  SimResult& r_;
+  detail::Engine engine_;
+  std::vector<detail::Output> outs_;
+  std::vector<std::vector<std::uint8_t>> leafv_;
+  std::vector<int> written_;
+  const std::uint32_t L_;
+};
+
+}  // namespace
+
 SimResult simulate(const SceneDesc& scene_in, World& world, const SimulateOptions& opt) {
   const double t_start = now_ns();
   SceneDesc scene = scene_in;
@@ -241,155 +427,16 @@ SimResult simulate(const SceneDesc& scene_in, World& world, const SimulateOption
   for (int c = 0; c < kConfigCount; ++c) r.configs.push_back(static_cast<Config>(c));
   r.totals.assign(r.configs.size(), Counters{});
 
-  detail::Engine engine(world, r.views_per_frame);
-  std::vector<detail::Output> outs(r.configs.size());
-  std::vector<std::vector<std::uint8_t>> leafv(r.configs.size());
-  std::vector<int> written(r.configs.size(), 0);
-  const bool has_moving = !scene.moving.empty();
-  const std::uint32_t L = world.leaf_count();
+  Simulation sim(scene, world, opt, r);
   Progress progress{opt.progress, r.frames, "simulate " + scene.name};
   const oracle::Stats oracle_before = oracle::stats();
-
   for (int f = 0; f < r.frames; ++f) {
     std::vector<std::uint32_t> moved;
-    if (has_moving) moved = move_objects(scene, world, f);
+    if (!scene.moving.empty()) moved = move_objects(scene, world, f);
     const CameraFrame& cam = path[static_cast<std::size_t>(f)];
-    const std::vector<View> views = frame_views(scene.projection, cam);
     const bool proj_changed =
         !opt.bypass_zoom_guard && f > 0 && cam.fovy_deg != path[static_cast<std::size_t>(f - 1)].fovy_deg;
-    for (int v = 0; v < static_cast<int>(views.size()); ++v) {
-      const View& view = views[static_cast<std::size_t>(v)];
-      for (std::size_t ci = 0; ci < r.configs.size(); ++ci) {
-        const Config c = r.configs[ci];
-        const double t0 = now_ns();
-        engine.setup(c, v, view, proj_changed, moved);
-        engine.run(c, v, outs[ci], true);
-        const double t1 = now_ns();
-        FrameRecord rec;
-        rec.frame = f;
-        rec.view = v;
-        rec.motion = cam.motion;
-        rec.config = c;
-        rec.moved_nodes = static_cast<std::uint32_t>(moved.size());
-        const detail::ConfigView& st = engine.state(c, v);
-        rec.tr_used = (c == Config::pc_tr || c == Config::pc_octant_tr) && st.tr_used;
-        rec.octant_used = (c == Config::pc_octant || c == Config::pc_octant_tr) && st.octant_ok && !rec.tr_used;
-        rec.c.nodes_visited = outs[ci].visited;
-        rec.c.plane_tests = outs[ci].tests;
-        rec.c.leaves = L;
-        rec.c.visible = outs[ci].leaves.size();
-        for (std::uint8_t vv : outs[ci].verdicts) rec.c.inside += vv == static_cast<std::uint8_t>(Visibility::inside);
-        rec.c.tr_frames = rec.tr_used;
-        rec.c.octant_frames = rec.octant_used;
-        rec.c.time_ns = t1 - t0;
-        r.records.push_back(rec);
-        auto& lv = leafv[ci];
-        lv.assign(L, static_cast<std::uint8_t>(Visibility::outside));
-        for (std::size_t k = 0; k < outs[ci].leaves.size(); ++k) lv[outs[ci].leaves[k]] = outs[ci].verdicts[k];
-      }
-      if (!opt.verify) continue;
-      // Leaves to check.
-      std::vector<std::uint32_t> cand;
-      if (opt.exhaustive) {
-        cand.resize(L);
-        for (std::uint32_t k = 0; k < L; ++k) cand[k] = k;
-      } else {
-        std::set<std::uint32_t> s;
-        Rng rng{opt.seed * 1000003ull + static_cast<std::uint64_t>(f) * 7919ull + static_cast<std::uint64_t>(v)};
-        for (int k = 0; k < opt.samples && L > 0; ++k) s.insert(static_cast<std::uint32_t>(rng.next() % L));
-        for (std::uint32_t k = 0; k < L; ++k)
-          for (std::size_t ci = 1; ci < r.configs.size(); ++ci)
-            if (leafv[ci][k] != leafv[0][k]) {
-              s.insert(k);
-              break;
-            }
-        cand.assign(s.begin(), s.end());
-      }
-      const CaseFrustum spec = frustum_spec(view.frustum);
-      std::vector<std::uint8_t> truth(cand.size());
-      tbb::parallel_for(std::size_t(0), cand.size(), [&](std::size_t i) {
-        truth[i] = static_cast<std::uint8_t>(oracle::truth(spec, Volume(world.bvh.prim_boxes[cand[i]])));
-      });
-      const std::size_t first_rec = r.records.size() - r.configs.size();
-      for (std::size_t ci = 0; ci < r.configs.size(); ++ci) {
-        FrameRecord& rec = r.records[first_rec + ci];
-        const Config c = r.configs[ci];
-        rec.c.checked = cand.size();
-        for (std::size_t i = 0; i < cand.size(); ++i) {
-          const auto verdict = static_cast<Visibility>(leafv[ci][cand[i]]);
-          Visibility t = static_cast<Visibility>(truth[i]);
-          ErrorClass e = error_class(verdict, t);
-          if ((e == ErrorClass::false_reject || e == ErrorClass::false_inside) && c == Config::perspective_transform) {
-            t = oracle::truth(frustum_spec(view.clip, view.depth), Volume(world.bvh.prim_boxes[cand[i]]));
-            e = error_class(verdict, t);
-          }
-          switch (e) {
-            case ErrorClass::false_reject: ++rec.c.false_reject; break;
-            case ErrorClass::false_inside: ++rec.c.false_inside; break;
-            case ErrorClass::false_intersect: ++rec.c.false_intersect; break;
-            case ErrorClass::under_inside: ++rec.c.under_inside; break;
-            default: break;
-          }
-          if (e != ErrorClass::false_reject && e != ErrorClass::false_inside) continue;
-          // A mismatch: find the node that decided (highest visited ancestor that was outside or
-          // inside), and write it with the state that produced it.
-          Mismatch mm;
-          mm.frame = f;
-          mm.view = v;
-          mm.config = c;
-          mm.leaf = cand[i];
-          mm.error = to_string(e);
-          std::uint32_t decider = world.leaf_node[cand[i]];
-          const auto& nv = outs[ci].node_verdict;
-          for (std::int32_t n = static_cast<std::int32_t>(decider); n >= 0; n = world.parent[static_cast<std::size_t>(n)]) {
-            const std::uint8_t x = nv.empty() ? 255 : nv[static_cast<std::size_t>(n)];
-            if (x == static_cast<std::uint8_t>(Visibility::outside) || x == static_cast<std::uint8_t>(Visibility::inside))
-              decider = static_cast<std::uint32_t>(n);
-          }
-          mm.node = decider;
-          if (opt.write_corpus && written[ci] < opt.corpus_per_config) {
-            ++written[ci];
-            Case cs;
-            cs.id = fmt::format("scene-{}-{}-f{}-v{}-n{}", scene.name, to_string(c), f, v, decider);
-            cs.frustum = c == Config::perspective_transform ? frustum_spec(view.clip, view.depth) : spec;
-            cs.volume = world.bvh.nodes[decider].box;
-            cs.truth = oracle::truth(cs.frustum, cs.volume);
-            cs.note = fmt::format("scene simulation: {} gave {} for leaf {} (truth {})", to_string(c),
-                                  std::string(cullproof::to_string(verdict)), cand[i], std::string(cullproof::to_string(t)));
-            const detail::ConfigView& st = engine.state(c, v);
-            const TrObjectState& trs = st.tr[decider];
-            json tr = {{"test_frame", trs.test_frame},
-                       {"outside_bits", trs.outside_bits},
-                       {"angle_at_test", trs.angle_at_test},
-                       {"p_value", std::vector<float>(trs.p_value, trs.p_value + 6)},
-                       {"n_value", std::vector<float>(trs.n_value, trs.n_value + 6)},
-                       {"box", box_json(trs.box)}};
-            cs.extra = json{{"scene", scene.file},
-                            {"scene_name", scene.name},
-                            {"frame", f},
-                            {"view", v},
-                            {"camera_motion", to_string(cam.motion)},
-                            {"method", to_string(c)},
-                            {"verdict", std::string(cullproof::to_string(verdict))},
-                            {"error", mm.error},
-                            {"leaf", cand[i]},
-                            {"leaf_box", box_json(world.bvh.prim_boxes[cand[i]])},
-                            {"node", decider},
-                            {"cached_state",
-                             {{"plane_coherency_last_plane", st.pc[decider]},
-                              {"tr_used", st.tr_used},
-                              {"tr_reason", st.tr_why},
-                              {"octant_used", st.octant_ok},
-                              {"tr", tr}}}};
-            const std::filesystem::path file = std::filesystem::path(opt.corpus_dir) / (cs.id + ".json");
-            std::filesystem::create_directories(file.parent_path());
-            write_case_file(file, cs, true);
-            mm.file = file.string();
-          }
-          r.mismatches.push_back(mm);
-        }
-      }
-    }
+    sim.frame(f, cam, proj_changed, moved);
     progress.update(f + 1);
   }
   for (const FrameRecord& rec : r.records)

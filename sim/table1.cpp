@@ -1,4 +1,4 @@
-// Reproduction of Assarsson & Möller 2000, §4 Table 1 (shared/seeds/000): speedup of the
+// Reproduction of Assarsson & Möller 2000, §4 Table 1: speedup of the
 // view-frustum culler over the perspective-transform baseline (DirectModel), per model and path.
 //
 // Procedure: for each model scene and each of the four path kinds (the scene's camera settings,

@@ -10,6 +10,7 @@
 // 1274 graph nodes) is met by choosing L. Node boxes are exact float min/max of their children
 // (leaves: of their triangles' float world vertices), so a node encloses its subtree exactly.
 #include "cullproof/scene.hpp"
+#include "splitmix.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,19 +24,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// splitmix64: a fixed, portable generator (std distributions differ between libraries).
-struct Rng {
-  std::uint64_t s;
-  explicit Rng(std::uint64_t seed) : s(seed * 0x9E3779B97F4A7C15ull + 0x1234567ull) {}
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1p-53; }
-  int range(int lo, int hi) { return lo + static_cast<int>(uniform() * (hi - lo + 1)); }
-};
+// The world's and the camera path's generator, from the scene's seed.
+SplitMix64 world_rng(std::uint64_t seed) { return SplitMix64{seed * 0x9E3779B97F4A7C15ull + 0x1234567ull}; }
 
 glm::dmat3 rot_y(double deg) {
   const double a = deg * kPi / 180.0, c = std::cos(a), s = std::sin(a);
@@ -47,17 +37,6 @@ glm::dmat3 rot_x(double deg) {
   return glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, c, s), glm::dvec3(0, -s, c));
 }
 glm::dmat3 orient(double yaw, double pitch) { return rot_y(yaw) * rot_x(pitch); }
-
-float round_down(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-float round_up(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  return f;
-}
 
 Aabb empty_box() {
   const float inf = std::numeric_limits<float>::infinity();
@@ -187,9 +166,10 @@ struct Builder {
 
 }  // namespace
 
-World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir) {
-  World w;
-  // Meshes, each read once.
+namespace {
+
+// The models the scene's groups use, each mesh read once and normalised.
+std::map<std::string, ModelGeom> read_models(const SceneDesc& scene, const std::filesystem::path& mesh_dir) {
   std::map<std::string, ModelGeom> models;
   for (const ModelDesc& m : scene.models) {
     bool used = false;
@@ -204,16 +184,21 @@ World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir)
                           "scripts/install-deps), or set CULLPROOF_MESH_DIR");
     models[m.id] = normalise(read_off(file), m);
   }
+  return models;
+}
 
-  // Instances and their world triangles.
-  struct Placed {
-    Instance inst;
-    const ModelGeom* geom;
-  };
+// An instance and the model geometry it places.
+struct Placed {
+  Instance inst;
+  const ModelGeom* geom;
+};
+
+// The floor (when the scene has one) and every group's instances, placed by the group's pattern
+// and seed, with the scene's moving instances marked.
+std::vector<Placed> place_instances(const SceneDesc& scene, const std::map<std::string, ModelGeom>& models,
+                                    const ModelGeom& floor) {
   std::vector<Placed> placed;
-  ModelGeom floor;
   if (scene.floor) {
-    floor = floor_geom(*scene.floor);
     Placed p;
     p.inst.group = -1;
     p.inst.model = "floor";
@@ -223,7 +208,7 @@ World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir)
   }
   for (std::size_t gi = 0; gi < scene.groups.size(); ++gi) {
     const InstanceGroup& g = scene.groups[gi];
-    Rng rng(g.seed);
+    SplitMix64 rng = world_rng(g.seed);
     for (int i = 0; i < g.count; ++i) {
       Placed p;
       p.inst.group = static_cast<int>(gi);
@@ -252,8 +237,12 @@ World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir)
       if (p.inst.group == m.group &&
           (m.instances.empty() || std::find(m.instances.begin(), m.instances.end(), p.inst.index_in_group) != m.instances.end()))
         p.inst.moving = true;
+  return placed;
+}
 
-  // Leaf size.
+// Triangles per leaf: the scene's leaf_triangles, or the size whose hierarchy comes closest to
+// its target_nodes (the smallest with no more nodes, or one less when that is closer).
+std::size_t leaf_size(const std::vector<Placed>& placed, const HierarchyDesc& h) {
   std::vector<std::size_t> tri_counts;
   for (const Placed& p : placed) tri_counts.push_back(p.geom->triangles.size());
   const std::size_t max_t = *std::max_element(tri_counts.begin(), tri_counts.end());
@@ -262,9 +251,9 @@ World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir)
     for (std::size_t t : tri_counts) leaves += (t + L - 1) / L;
     return 2 * leaves - 1;
   };
-  std::size_t L = scene.hierarchy.leaf_triangles > 0 ? static_cast<std::size_t>(scene.hierarchy.leaf_triangles) : 1;
-  if (scene.hierarchy.target_nodes > 0) {
-    const std::size_t target = static_cast<std::size_t>(scene.hierarchy.target_nodes);
+  std::size_t L = h.leaf_triangles > 0 ? static_cast<std::size_t>(h.leaf_triangles) : 1;
+  if (h.target_nodes > 0) {
+    const std::size_t target = static_cast<std::size_t>(h.target_nodes);
     std::size_t lo = 1, hi = std::max<std::size_t>(1, max_t);  // smallest L with nodes <= target
     while (lo < hi) {
       const std::size_t mid = lo + (hi - lo) / 2;
@@ -280,13 +269,27 @@ World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir)
       if (diff(L - 1) < diff(L)) L = L - 1;
     }
   }
-  w.leaf_triangles = static_cast<std::uint32_t>(L);
+  return L;
+}
 
-  // Instance order for the top levels: median split of the instances' world-box centres.
-  std::vector<Aabb> inst_box(placed.size(), empty_box());
-  Builder bld{w, static_cast<std::uint32_t>(L), {}, {}, {}};
-  // World triangles are computed per instance when its subtree is built.
-  auto tri_geometry = [&](const Placed& p) {
+// The top levels of the hierarchy: a median split of the instances' world-box centres; each
+// instance's own subtree is built over its world triangles when the split reaches it.
+struct TopBuilder {
+  Builder& bld;
+  World& w;
+  std::vector<Placed>& placed;
+  std::vector<Aabb> inst_box;
+
+  TopBuilder(Builder& b, World& world, std::vector<Placed>& p) : bld(b), w(world), placed(p), inst_box(p.size(), empty_box()) {
+    for (std::size_t i = 0; i < placed.size(); ++i) {
+      const ModelGeom& g = *placed[i].geom;
+      for (const glm::vec3& v : g.vertices)
+        grow(inst_box[i], glm::vec3(placed[i].inst.position + placed[i].inst.rotation * glm::dvec3(v)));
+    }
+  }
+
+  // The instance's triangles in world space (boxes, centres) and in model space, into bld.
+  void triangle_geometry(const Placed& p) {
     const ModelGeom& g = *p.geom;
     bld.tri_box.resize(g.triangles.size());
     bld.tri_local.resize(g.triangles.size());
@@ -305,60 +308,61 @@ World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir)
       bld.tri_local[t] = l;
       bld.tri_cent[t] = b.center();
     }
-  };
-  for (std::size_t i = 0; i < placed.size(); ++i) {
-    const ModelGeom& g = *placed[i].geom;
-    for (const glm::vec3& v : g.vertices)
-      grow(inst_box[i], glm::vec3(placed[i].inst.position + placed[i].inst.rotation * glm::dvec3(v)));
   }
+
+  std::uint32_t build_leaf_instance(Placed& p, std::int32_t parent) {
+    triangle_geometry(p);
+    std::vector<std::uint32_t> idx(p.geom->triangles.size());
+    std::iota(idx.begin(), idx.end(), 0u);
+    const std::int32_t inst = static_cast<std::int32_t>(w.instances.size());
+    w.instances.push_back(p.inst);
+    const std::uint32_t root = bld.build_instance(idx, 0, idx.size(), parent, inst);
+    Instance& in = w.instances.back();
+    in.root = root;
+    in.node_end = w.node_count();
+    in.triangles = p.geom->triangles.size();
+    return root;
+  }
+
+  std::uint32_t build(std::vector<std::uint32_t>& ord, std::size_t b, std::size_t e, std::int32_t parent) {
+    if (e - b == 1) return build_leaf_instance(placed[ord[b]], parent);
+    const std::uint32_t node = bld.new_node(parent, -1);
+    w.bvh.subtree_prims[node][0] = w.leaf_count();
+    Aabb cb = empty_box();
+    for (std::size_t k = b; k < e; ++k) grow(cb, inst_box[ord[k]].center());
+    const int axis = longest_axis(cb);
+    const std::size_t mid = b + (e - b) / 2;
+    std::nth_element(ord.begin() + static_cast<std::ptrdiff_t>(b), ord.begin() + static_cast<std::ptrdiff_t>(mid),
+                     ord.begin() + static_cast<std::ptrdiff_t>(e), [&](std::uint32_t x, std::uint32_t y) {
+                       const float cx = inst_box[x].center()[axis], cy = inst_box[y].center()[axis];
+                       return cx < cy || (cx == cy && x < y);
+                     });
+    build(ord, b, mid, static_cast<std::int32_t>(node));
+    const std::uint32_t r = build(ord, mid, e, static_cast<std::int32_t>(node));
+    Aabb box = w.bvh.nodes[node + 1].box;
+    grow(box, w.bvh.nodes[r].box);
+    w.bvh.nodes[node].box = box;
+    w.bvh.nodes[node].right_or_first = r;
+    w.bvh.nodes[node].count = 0;
+    w.bvh.subtree_prims[node][1] = w.leaf_count();
+    return node;
+  }
+};
+
+}  // namespace
+
+World build_world(const SceneDesc& scene, const std::filesystem::path& mesh_dir) {
+  World w;
+  const std::map<std::string, ModelGeom> models = read_models(scene, mesh_dir);
+  const ModelGeom floor = scene.floor ? floor_geom(*scene.floor) : ModelGeom{};
+  std::vector<Placed> placed = place_instances(scene, models, floor);
+  const std::size_t L = leaf_size(placed, scene.hierarchy);
+  w.leaf_triangles = static_cast<std::uint32_t>(L);
+
+  Builder bld{w, static_cast<std::uint32_t>(L), {}, {}, {}};
+  TopBuilder top(bld, w, placed);
   std::vector<std::uint32_t> order(placed.size());
   std::iota(order.begin(), order.end(), 0u);
-
-  // Recursive top-level build.
-  struct Top {
-    Builder& bld;
-    World& w;
-    std::vector<Placed>& placed;
-    std::vector<Aabb>& inst_box;
-    decltype(tri_geometry)& geom;
-    std::uint32_t build(std::vector<std::uint32_t>& ord, std::size_t b, std::size_t e, std::int32_t parent) {
-      if (e - b == 1) {
-        Placed& p = placed[ord[b]];
-        geom(p);
-        std::vector<std::uint32_t> idx(p.geom->triangles.size());
-        std::iota(idx.begin(), idx.end(), 0u);
-        const std::int32_t inst = static_cast<std::int32_t>(w.instances.size());
-        w.instances.push_back(p.inst);
-        const std::uint32_t root = bld.build_instance(idx, 0, idx.size(), parent, inst);
-        Instance& in = w.instances.back();
-        in.root = root;
-        in.node_end = w.node_count();
-        in.triangles = p.geom->triangles.size();
-        return root;
-      }
-      const std::uint32_t node = bld.new_node(parent, -1);
-      w.bvh.subtree_prims[node][0] = w.leaf_count();
-      Aabb cb = empty_box();
-      for (std::size_t k = b; k < e; ++k) grow(cb, inst_box[ord[k]].center());
-      const int axis = longest_axis(cb);
-      const std::size_t mid = b + (e - b) / 2;
-      std::nth_element(ord.begin() + static_cast<std::ptrdiff_t>(b), ord.begin() + static_cast<std::ptrdiff_t>(mid),
-                       ord.begin() + static_cast<std::ptrdiff_t>(e), [&](std::uint32_t x, std::uint32_t y) {
-                         const float cx = inst_box[x].center()[axis], cy = inst_box[y].center()[axis];
-                         return cx < cy || (cx == cy && x < y);
-                       });
-      build(ord, b, mid, static_cast<std::int32_t>(node));
-      const std::uint32_t r = build(ord, mid, e, static_cast<std::int32_t>(node));
-      Aabb box = w.bvh.nodes[node + 1].box;
-      grow(box, w.bvh.nodes[r].box);
-      w.bvh.nodes[node].box = box;
-      w.bvh.nodes[node].right_or_first = r;
-      w.bvh.nodes[node].count = 0;
-      w.bvh.subtree_prims[node][1] = w.leaf_count();
-      return node;
-    }
-  };
-  Top top{bld, w, placed, inst_box, tri_geometry};
   top.build(order, 0, order.size(), -1);
 
   for (const Placed& p : placed) {
@@ -395,8 +399,8 @@ Aabb transform_box(const Aabb& b, const glm::dmat3& r, const glm::dvec3& t) {
     hi = glm::max(hi, p);
   }
   // Rounded outward: the float box contains the double-precision image of the model-space box.
-  return Aabb{glm::vec3(round_down(lo.x), round_down(lo.y), round_down(lo.z)),
-              glm::vec3(round_up(hi.x), round_up(hi.y), round_up(hi.z))};
+  return Aabb{glm::vec3(float_at_most(lo.x), float_at_most(lo.y), float_at_most(lo.z)),
+              glm::vec3(float_at_least(hi.x), float_at_least(hi.y), float_at_least(hi.z))};
 }
 
 bool same(const Aabb& a, const Aabb& b) {
@@ -451,178 +455,210 @@ std::vector<std::uint32_t> move_objects(const SceneDesc& scene, World& w, int fr
 // ---------------------------------------------------------------------------------------------
 // Camera paths
 
-std::vector<CameraFrame> camera_path(const SceneDesc& scene, const World& world) {
-  const CameraPathDesc& d = scene.camera;
-  const int n = d.frames;
-  std::array<double, 4> bounds;
-  if (d.bounds) {
-    bounds = *d.bounds;
-  } else {
-    const double x0 = world.bounds.min.x, x1 = world.bounds.max.x, z0 = world.bounds.min.z, z1 = world.bounds.max.z;
-    const double ix = 0.05 * (x1 - x0), iz = 0.05 * (z1 - z0);
-    bounds = {x0 + ix, z0 + iz, x1 - ix, z1 - iz};
+namespace {
+
+// The camera walking a path: its eye, yaw, pitch and axes, the frames so far, and the ground
+// rectangle it stays inside. Each path kind is a member; the random steps draw from `rng` in the
+// order they are taken, so a path is a function of the scene's seed.
+class PathWalker {
+ public:
+  PathWalker(const CameraPathDesc& d, const World& world)
+      : d_(d), n_(d.frames), rng_(world_rng(d.seed)), eye_(d.eye), yaw_(d.yaw_deg), pitch_(d.pitch_deg),
+        R_(orient(yaw_, pitch_)) {
+    if (d.bounds) {
+      bounds_ = *d.bounds;
+    } else {
+      const double x0 = world.bounds.min.x, x1 = world.bounds.max.x, z0 = world.bounds.min.z, z1 = world.bounds.max.z;
+      const double ix = 0.05 * (x1 - x0), iz = 0.05 * (z1 - z0);
+      bounds_ = {x0 + ix, z0 + iz, x1 - ix, z1 - iz};
+    }
+    centre_ = glm::dvec2(0.5 * (bounds_[0] + bounds_[2]), 0.5 * (bounds_[1] + bounds_[3]));
+    out_.reserve(static_cast<std::size_t>(n_));
   }
-  const glm::dvec2 centre(0.5 * (bounds[0] + bounds[2]), 0.5 * (bounds[1] + bounds[3]));
-  auto inside = [&](const glm::dvec3& e) { return e.x >= bounds[0] && e.x <= bounds[2] && e.z >= bounds[1] && e.z <= bounds[3]; };
+
+  std::vector<CameraFrame> walk() {
+    switch (d_.kind) {
+      case PathKind::navigation: navigation(); break;
+      case PathKind::translation_rotation: translation_rotation(); break;
+      case PathKind::rotation: rotation(); break;
+      case PathKind::translation: translation(); break;
+      case PathKind::keyframes: keyframes(); break;
+    }
+    out_.resize(static_cast<std::size_t>(n_));
+    return std::move(out_);
+  }
+
+ private:
+  bool inside(const glm::dvec3& e) const {
+    return e.x >= bounds_[0] && e.x <= bounds_[2] && e.z >= bounds_[1] && e.z <= bounds_[3];
+  }
   // Yaw (degrees) that looks from e towards the bounds' centre.
-  auto yaw_to_centre = [&](const glm::dvec3& e) {
-    const glm::dvec2 v = centre - glm::dvec2(e.x, e.z);
+  double yaw_to_centre(const glm::dvec3& e) const {
+    const glm::dvec2 v = centre_ - glm::dvec2(e.x, e.z);
     return std::atan2(-v.x, -v.y) * 180.0 / kPi;  // forward = (-sin yaw, 0, -cos yaw)
-  };
-  auto wrap = [](double a) {  // to (-180, 180]
+  }
+  static double wrap(double a) {  // to (-180, 180]
     while (a > 180.0) a -= 360.0;
     while (a <= -180.0) a += 360.0;
     return a;
-  };
-
-  std::vector<CameraFrame> out;
-  out.reserve(static_cast<std::size_t>(n));
-  Rng rng(d.seed);
-  glm::dvec3 eye = d.eye;
-  double yaw = d.yaw_deg, pitch = d.pitch_deg;
-  glm::dmat3 R = orient(yaw, pitch);
-  auto push = [&]() {
+  }
+  bool more() const { return static_cast<int>(out_.size()) < n_; }
+  void push() {
     CameraFrame f;
-    f.eye = eye;
-    f.axes = R;
-    out.push_back(f);
-  };
-  auto fwd = [&]() { return glm::dvec3(-std::sin(yaw * kPi / 180.0), 0.0, -std::cos(yaw * kPi / 180.0)); };
-  auto right = [&]() { return glm::dvec3(std::cos(yaw * kPi / 180.0), 0.0, -std::sin(yaw * kPi / 180.0)); };
-  // A step that would leave the bounds becomes a turn towards the centre.
-  auto steer_or_move = [&](const glm::dvec3& step, double dyaw) {
-    const glm::dvec3 next = eye + step;
-    if (!step.x && !step.z) {
-      yaw += dyaw;
-    } else if (inside(next)) {
-      eye = next;
-      yaw += dyaw;
-    } else {
-      const double want = wrap(yaw_to_centre(eye) - yaw);
-      const double t = std::max(d.turn_deg, 1.0);
-      yaw += std::abs(want) < t ? want : (want > 0 ? t : -t);
-    }
-    R = orient(yaw, pitch);
-  };
+    f.eye = eye_;
+    f.axes = R_;
+    out_.push_back(f);
+  }
+  glm::dvec3 fwd() const { return glm::dvec3(-std::sin(yaw_ * kPi / 180.0), 0.0, -std::cos(yaw_ * kPi / 180.0)); }
+  glm::dvec3 right() const { return glm::dvec3(std::cos(yaw_ * kPi / 180.0), 0.0, -std::sin(yaw_ * kPi / 180.0)); }
+  glm::dvec3 towards_centre() const {
+    return glm::normalize(glm::dvec3(centre_.x - eye_.x, 0.0, centre_.y - eye_.z));
+  }
 
-  switch (d.kind) {
-    case PathKind::navigation: {
-      push();
-      while (static_cast<int>(out.size()) < n) {
-        const double u = rng.uniform();
-        const int sign = rng.uniform() < 0.5 ? -1 : 1;
-        if (u < 0.35) {  // walk forward
-          const int len = rng.range(20, 80);
-          for (int k = 0; k < len && static_cast<int>(out.size()) < n; ++k) {
-            steer_or_move(fwd() * d.speed, 0.0);
-            push();
-          }
-        } else if (u < 0.55) {  // turn on the spot
-          const int len = rng.range(10, 45);
-          for (int k = 0; k < len && static_cast<int>(out.size()) < n; ++k) {
-            steer_or_move(glm::dvec3(0.0), sign * d.turn_deg);
-            push();
-          }
-        } else if (u < 0.75) {  // walk while turning
-          const int len = rng.range(15, 60);
-          for (int k = 0; k < len && static_cast<int>(out.size()) < n; ++k) {
-            steer_or_move(fwd() * d.speed, sign * 0.5 * d.turn_deg);
-            push();
-          }
-        } else if (u < 0.82) {  // look up or down and back
-          const int len = rng.range(5, 20);
-          for (int k = 0; k < 2 * len && static_cast<int>(out.size()) < n; ++k) {
-            pitch += (k < len ? sign : -sign) * 0.5 * d.turn_deg;
-            if (k == 2 * len - 1) pitch = d.pitch_deg;
-            R = orient(yaw, pitch);
-            push();
-          }
-        } else if (u < 0.90) {  // strafe
-          const int len = rng.range(10, 40);
-          for (int k = 0; k < len && static_cast<int>(out.size()) < n; ++k) {
-            steer_or_move(right() * (sign * 0.5 * d.speed), 0.0);
-            push();
-          }
-        } else {  // stand still
-          const int len = rng.range(5, 20);
-          for (int k = 0; k < len && static_cast<int>(out.size()) < n; ++k) push();
-        }
-      }
-      break;
+  // A step that would leave the bounds becomes a turn towards the centre.
+  void steer_or_move(const glm::dvec3& step, double dyaw) {
+    const glm::dvec3 next = eye_ + step;
+    if (!step.x && !step.z) {
+      yaw_ += dyaw;
+    } else if (inside(next)) {
+      eye_ = next;
+      yaw_ += dyaw;
+    } else {
+      const double want = wrap(yaw_to_centre(eye_) - yaw_);
+      const double t = std::max(d_.turn_deg, 1.0);
+      yaw_ += std::abs(want) < t ? want : (want > 0 ? t : -t);
     }
-    case PathKind::translation_rotation: {
+    R_ = orient(yaw_, pitch_);
+  }
+  // `len` frames (fewer at the end of the path), each one steer_or_move(step(), dyaw).
+  template <class Step>
+  void steps(int len, Step step, double dyaw) {
+    for (int k = 0; k < len && more(); ++k) {
+      steer_or_move(step(), dyaw);
       push();
-      int sign = 1;
-      for (int f = 1; f < n; ++f) {
-        if (f % 97 == 0) sign = -sign;
-        const double rate = d.turn_deg * (0.3 + 0.7 * std::abs(std::sin(f * 0.05)));
-        glm::dvec3 next = eye + fwd() * d.speed;
-        double dyaw = sign * rate;
-        if (!inside(next)) {  // turn towards the centre while still moving a little
-          const double want = wrap(yaw_to_centre(eye) - yaw);
-          dyaw = want > 0 ? std::max(d.turn_deg, 1.0) : -std::max(d.turn_deg, 1.0);
-          next = eye + fwd() * (0.25 * d.speed);
-          if (!inside(next)) next = eye + glm::normalize(glm::dvec3(centre.x - eye.x, 0.0, centre.y - eye.z)) * (0.25 * d.speed);
-        }
-        eye = next;
-        yaw += dyaw;
-        R = orient(yaw, pitch);
-        push();
-      }
-      break;
-    }
-    case PathKind::rotation: {
-      push();
-      double pitch_acc = pitch;
-      while (static_cast<int>(out.size()) < n) {
-        const bool about_x = rng.uniform() < 0.3;
-        int sign = rng.uniform() < 0.5 ? -1 : 1;
-        const int len = rng.range(20, 90);
-        for (int k = 0; k < len && static_cast<int>(out.size()) < n; ++k) {
-          if (about_x) {
-            if (std::abs(pitch_acc + sign * d.turn_deg) > 40.0) sign = -sign;
-            pitch_acc += sign * d.turn_deg;
-            R = R * rot_x(sign * d.turn_deg);  // about the camera's own x axis
-          } else {
-            R = R * rot_y(sign * d.turn_deg);  // about the camera's own y axis
-          }
-          push();
-        }
-      }
-      break;
-    }
-    case PathKind::translation: {
-      push();
-      while (static_cast<int>(out.size()) < n) {
-        const double a = 2.0 * kPi * rng.uniform();
-        glm::dvec3 dir(std::cos(a), 0.0, std::sin(a));
-        const int len = rng.range(20, 80);
-        for (int k = 0; k < len && static_cast<int>(out.size()) < n; ++k) {
-          if (!inside(eye + dir * d.speed)) dir = glm::normalize(glm::dvec3(centre.x - eye.x, 0.0, centre.y - eye.z));
-          eye += dir * d.speed;  // orientation never changes: plane normals stay bitwise equal
-          push();
-        }
-      }
-      break;
-    }
-    case PathKind::keyframes: {
-      const auto& ks = d.keyframes;
-      std::size_t seg = 0;
-      for (int f = 0; f < n; ++f) {
-        while (seg + 2 < ks.size() && f > ks[seg + 1].frame) ++seg;
-        const Keyframe& a = ks[seg];
-        const Keyframe& b = ks[seg + 1];
-        const double t = static_cast<double>(f - a.frame) / static_cast<double>(b.frame - a.frame);
-        eye = a.eye + (b.eye - a.eye) * t;
-        R = orient(a.yaw_deg + (b.yaw_deg - a.yaw_deg) * t, a.pitch_deg + (b.pitch_deg - a.pitch_deg) * t);
-        push();
-      }
-      break;
     }
   }
-  out.resize(static_cast<std::size_t>(n));
 
-  const ProjectionDesc& p = scene.projection;
+  // A walk of random episodes: forward, turning on the spot, walking while turning, looking up
+  // or down and back, strafing, standing still.
+  void navigation() {
+    push();
+    while (more()) {
+      const double u = rng_.uniform();
+      const int sign = rng_.uniform() < 0.5 ? -1 : 1;
+      if (u < 0.35) {
+        steps(rng_.range(20, 80), [&] { return fwd() * d_.speed; }, 0.0);
+      } else if (u < 0.55) {
+        steps(rng_.range(10, 45), [] { return glm::dvec3(0.0); }, sign * d_.turn_deg);
+      } else if (u < 0.75) {
+        steps(rng_.range(15, 60), [&] { return fwd() * d_.speed; }, sign * 0.5 * d_.turn_deg);
+      } else if (u < 0.82) {
+        const int len = rng_.range(5, 20);
+        for (int k = 0; k < 2 * len && more(); ++k) {
+          pitch_ += (k < len ? sign : -sign) * 0.5 * d_.turn_deg;
+          if (k == 2 * len - 1) pitch_ = d_.pitch_deg;
+          R_ = orient(yaw_, pitch_);
+          push();
+        }
+      } else if (u < 0.90) {
+        steps(rng_.range(10, 40), [&] { return right() * (sign * 0.5 * d_.speed); }, 0.0);
+      } else {
+        const int len = rng_.range(5, 20);
+        for (int k = 0; k < len && more(); ++k) push();
+      }
+    }
+  }
+
+  // Moving forward and turning every frame, the turn rate varying, its sign flipping every 97
+  // frames; at the bounds, turning towards the centre while still moving a little.
+  void translation_rotation() {
+    push();
+    int sign = 1;
+    for (int f = 1; f < n_; ++f) {
+      if (f % 97 == 0) sign = -sign;
+      const double rate = d_.turn_deg * (0.3 + 0.7 * std::abs(std::sin(f * 0.05)));
+      glm::dvec3 next = eye_ + fwd() * d_.speed;
+      double dyaw = sign * rate;
+      if (!inside(next)) {
+        const double want = wrap(yaw_to_centre(eye_) - yaw_);
+        dyaw = want > 0 ? std::max(d_.turn_deg, 1.0) : -std::max(d_.turn_deg, 1.0);
+        next = eye_ + fwd() * (0.25 * d_.speed);
+        if (!inside(next)) next = eye_ + towards_centre() * (0.25 * d_.speed);
+      }
+      eye_ = next;
+      yaw_ += dyaw;
+      R_ = orient(yaw_, pitch_);
+      push();
+    }
+  }
+
+  // Turning on the spot about the camera's own x or y axis, pitch kept within 40 degrees.
+  void rotation() {
+    push();
+    double pitch_acc = pitch_;
+    while (more()) {
+      const bool about_x = rng_.uniform() < 0.3;
+      int sign = rng_.uniform() < 0.5 ? -1 : 1;
+      const int len = rng_.range(20, 90);
+      for (int k = 0; k < len && more(); ++k) {
+        if (about_x) {
+          if (std::abs(pitch_acc + sign * d_.turn_deg) > 40.0) sign = -sign;
+          pitch_acc += sign * d_.turn_deg;
+          R_ = R_ * rot_x(sign * d_.turn_deg);
+        } else {
+          R_ = R_ * rot_y(sign * d_.turn_deg);
+        }
+        push();
+      }
+    }
+  }
+
+  // Moving in random directions; the orientation never changes, so the plane normals stay
+  // bitwise equal from frame to frame.
+  void translation() {
+    push();
+    while (more()) {
+      const double a = 2.0 * kPi * rng_.uniform();
+      glm::dvec3 dir(std::cos(a), 0.0, std::sin(a));
+      const int len = rng_.range(20, 80);
+      for (int k = 0; k < len && more(); ++k) {
+        if (!inside(eye_ + dir * d_.speed)) dir = towards_centre();
+        eye_ += dir * d_.speed;
+        push();
+      }
+    }
+  }
+
+  // Linear interpolation of eye, yaw and pitch between the scene's keyframes.
+  void keyframes() {
+    const auto& ks = d_.keyframes;
+    std::size_t seg = 0;
+    for (int f = 0; f < n_; ++f) {
+      while (seg + 2 < ks.size() && f > ks[seg + 1].frame) ++seg;
+      const Keyframe& a = ks[seg];
+      const Keyframe& b = ks[seg + 1];
+      const double t = static_cast<double>(f - a.frame) / static_cast<double>(b.frame - a.frame);
+      eye_ = a.eye + (b.eye - a.eye) * t;
+      R_ = orient(a.yaw_deg + (b.yaw_deg - a.yaw_deg) * t, a.pitch_deg + (b.pitch_deg - a.pitch_deg) * t);
+      push();
+    }
+  }
+
+  const CameraPathDesc& d_;
+  const int n_;
+  SplitMix64 rng_;
+  std::array<double, 4> bounds_{};
+  glm::dvec2 centre_{};
+  glm::dvec3 eye_;
+  double yaw_, pitch_;
+  glm::dmat3 R_;
+  std::vector<CameraFrame> out_;
+};
+
+// Each frame's field of view (zooming when the scene says so) and how the camera moved since the
+// previous frame, as the float view the cullers see it.
+void label_frames(const ProjectionDesc& p, std::vector<CameraFrame>& out) {
+  const int n = static_cast<int>(out.size());
   for (int f = 0; f < n; ++f) {
     CameraFrame& c = out[static_cast<std::size_t>(f)];
     c.fovy_deg = p.fovy_deg;
@@ -639,6 +675,13 @@ std::vector<CameraFrame> camera_path(const SceneDesc& scene, const World& world)
                : same_eye            ? FrameMotion::rotation
                                      : FrameMotion::general;
   }
+}
+
+}  // namespace
+
+std::vector<CameraFrame> camera_path(const SceneDesc& scene, const World& world) {
+  std::vector<CameraFrame> out = PathWalker(scene.camera, world).walk();
+  label_frames(scene.projection, out);
   return out;
 }
 

@@ -43,7 +43,7 @@ namespace {
 bool is_hex_digit(char ch) { return std::isxdigit(static_cast<unsigned char>(ch)) != 0; }
 
 // Rounds a value parsed by strtof (correctly rounded in glibc) when std::from_chars reports a
-// range error: underflow rounds to zero or a subnormal as CONVENTIONS asks; overflow is an error.
+// range error: underflow rounds to zero or a subnormal as docs/semantics.md asks; overflow is an error.
 float strtof_checked(const std::string& s) {
   errno = 0;
   char* end = nullptr;

@@ -1,4 +1,4 @@
-// Geometry core: names, normalisation and validation of the CONVENTIONS shapes.
+// Geometry core: names, normalisation and validation of the shapes of docs/semantics.md.
 #include "cullproof/geometry.hpp"
 
 #include <cmath>

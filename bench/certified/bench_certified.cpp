@@ -93,7 +93,7 @@ void BM_sphere_plane(benchmark::State& s) {
 void BM_sphere_certified(benchmark::State& s) {
   run(s, [](std::size_t i) { return certified_sphere(data().cert, data().spheres[i]); });
 }
-// The exact family on the same OBBs (issue 5: what accuracy costs). Hoff's tests get the
+// The exact family on the same OBBs (what accuracy costs). Hoff's tests get the
 // frustum's apex (centre of projection) computed once per frame.
 void BM_hoff96(benchmark::State& s) {
   static const glm::vec3 cop = *frustum_apex(data().planes);

@@ -1,4 +1,4 @@
-// Benchmarks of the fast culler family (issue 4). One binary, the same data for all methods:
+// Benchmarks of the fast culler family. One binary, the same data for all methods:
 //  - ns per test for every method on random near-frustum volumes (direct API with per-frame
 //    set-up hoisted, and through the method interface, as verify times them);
 //  - batch cull of 1M AABBs (SoA, warm cache): SIMD vs the scalar n/p loop vs a plain SoA loop;

@@ -2,7 +2,7 @@
 // oracle on the same generated cases; error classes, conservativeness, cost; mismatches shrunk
 // and written to the corpus.
 //
-// Definitions used in the report (CONVENTIONS "What a method may get wrong"):
+// Definitions used in the report (docs/semantics.md "Errors"):
 //  - false-intersect rate  = false intersects / cases whose truth is outside (the invisible
 //    volumes a method fails to cull), with a 95% Wilson score interval;
 //  - under-inside rate     = under-insides / cases whose truth is inside;
@@ -28,13 +28,14 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include <string_view>
 
 namespace cullproof {
 
-/// Error class of a verdict against the truth (CONVENTIONS table).
+/// Error class of a verdict against the truth (docs/semantics.md "Errors").
 enum class ErrorClass : std::uint8_t { correct, false_reject, false_inside, false_intersect, under_inside };
 /// "correct", "false-reject", "false-inside", "false-intersect", "under-inside".
-const char* to_string(ErrorClass e) noexcept;
+std::string_view to_string(ErrorClass e) noexcept;
 /// The class of `verdict` when the truth is `truth`. A two-way method (three_way == false)
 /// answers `intersecting` for "visible": it is never charged with an under-inside.
 ErrorClass error_class(Visibility verdict, Visibility truth, bool three_way = true) noexcept;

@@ -1,5 +1,5 @@
 // The mismatch corpus (corpus/): one case per file, corpus/<method>/<distribution>/<class>-<hash>.json,
-// in the CONVENTIONS case format plus the mismatch record (method, verdict, class, truth,
+// in the case format of docs/semantics.md plus the mismatch record (method, verdict, class, truth,
 // witness, distance, seed, reproduce command, every method's verdict on the case).
 #pragma once
 

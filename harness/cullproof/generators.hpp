@@ -119,7 +119,7 @@ CameraPath draw_path(std::uint64_t seed, std::uint64_t path);
 /// One case of a path.
 GenCase path_case(const CameraPath& p, std::size_t frame, std::size_t object);
 
-/// Whether the case is float-exact (CONVENTIONS "Claims": where nothing rounds, nothing is
+/// Whether the case is float-exact (docs/semantics.md "Claims": where nothing rounds, nothing is
 /// forgiven): nothing a plane test computes on it rounds in float. Decided exactly, in rational
 /// arithmetic on the float values:
 ///  - every plane of the case (for a matrix case, the Gribb-Hartmann row sums the extraction takes

@@ -1,6 +1,6 @@
-// cullproof::oracle — exact ground truth for frustum culling (issue 3).
+// cullproof::oracle — exact ground truth for frustum culling.
 //
-// Truth is shared/CONVENTIONS.md "Ground truth": outside when B ∩ F is empty, inside when
+// Truth is docs/semantics.md "The truth": outside when B ∩ F is empty, inside when
 // B ⊆ F, intersecting otherwise, for closed B and F, computed exactly from the float values.
 // A matrix case is classified end to end: F is the Gribb–Hartmann extraction from the float
 // matrix entries with rows added in exact arithmetic, never the float-rounded planes.
@@ -29,6 +29,7 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <string_view>
 
 namespace cullproof::oracle {
 
@@ -61,7 +62,7 @@ enum class DistanceKind : std::uint8_t { euclidean, margin, clearance, none };
 
 /// The oracle's answer for one case.
 struct Result {
-  Visibility truth = Visibility::outside;  ///< exact truth (CONVENTIONS "Ground truth")
+  Visibility truth = Visibility::outside;  ///< exact truth (docs/semantics.md "The truth")
   double distance = 0.0;                   ///< see DistanceKind; NaN when not requested
   DistanceKind distance_kind = DistanceKind::none;  ///< what `distance` measures
   /// The checked certificate. {"kind":"point","point":["p/q",..],"point_approx":[..]} for
@@ -96,7 +97,7 @@ Visibility truth(const CaseFrustum& f, const Volume& v);
 /// "filtered": bool, "witness": {...}}.
 nlohmann::json to_json(const Result& r);
 /// "euclidean", "margin", "clearance" or "none".
-const char* to_string(DistanceKind k) noexcept;
+std::string_view to_string(DistanceKind k) noexcept;
 
 /// The independent exact method, used only to cross-check classify: exact rationals/integers,
 /// vertex enumeration of {t ∈ [-1,1]^3 : plane_j(c + Σ t_i e_i) ≥ 0} for boxes and points,

@@ -6,7 +6,7 @@
 //  - np_test          = the per-plane n/p-vertex test of pn_vertex.cpp / bvh_traverse.cpp
 //                       (A&M 2000 §3.1; value < 0 at the p-vertex: outside; at the n-vertex:
 //                       intersecting), evaluated ((nx*x + ny*y) + nz*z) + d;
-//  - basic_np         = pn_vertex (planes in CONVENTIONS order);
+//  - basic_np         = pn_vertex (planes in the plane order of docs/semantics.md);
 //  - plane_coherency  = plane_coherency_test (cached plane first, then left, right, near, far,
 //                       top, bottom);
 //  - octant_pc        = OctantCuller::classify_corrected (A&M §3.3 with fig. 6's precondition;
@@ -19,41 +19,20 @@
 #pragma once
 
 #include "cullproof/geometry.hpp"
+#include "cullproof/plane_select.hpp"
 
 #include <cstdint>
 
 namespace cullproof::sim {
 
-/// A plane with its p-vertex selection hoisted (indices into the box's six floats).
-struct SelPlane {
-  float nx = 0, ny = 0, nz = 0, d = 0;
-  int px = 0, py = 1, pz = 2, qx = 3, qy = 4, qz = 5;
-};
-
-inline SelPlane select_plane(const Plane& pl) noexcept {
-  SelPlane s;
-  s.nx = pl.n.x; s.ny = pl.n.y; s.nz = pl.n.z; s.d = pl.d;
-  s.px = pl.n.x > 0.0f ? 3 : 0; s.qx = 3 - s.px;
-  s.py = pl.n.y > 0.0f ? 4 : 1; s.qy = 5 - s.py;
-  s.pz = pl.n.z > 0.0f ? 5 : 2; s.qz = 7 - s.pz;
-  return s;
-}
-
-inline const float* box_floats(const Aabb& b) noexcept { return &b.min.x; }
-
-/// 0: outside the plane, 1: straddling, 2: inside.
-inline int np_test(const SelPlane& s, const float* b) noexcept {
-  const float pv = ((s.nx * b[s.px] + s.ny * b[s.py]) + s.nz * b[s.pz]) + s.d;
-  if (pv < 0.0f) return 0;
-  const float nv = ((s.nx * b[s.qx] + s.ny * b[s.qy]) + s.nz * b[s.qz]) + s.d;
-  return nv < 0.0f ? 1 : 2;
-}
+using SelPlane = SelectedPlane;
+inline int np_test(const SelPlane& s, const float* b) noexcept { return test_selected_plane(s, b); }
 
 inline Visibility from_code(bool outside, bool intersect) noexcept {
   return outside ? Visibility::outside : intersect ? Visibility::intersecting : Visibility::inside;
 }
 
-/// Six planes, CONVENTIONS order, early exit on the first rejecting plane.
+/// Six planes, the plane order of docs/semantics.md, early exit on the first rejecting plane.
 inline Visibility basic_np(const SelPlane (&p)[6], const Aabb& box, std::uint64_t& tests) noexcept {
   const float* b = box_floats(box);
   bool intersect = false;

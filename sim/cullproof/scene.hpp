@@ -2,7 +2,7 @@
 // (instances of real meshes turned into a bounding-volume hierarchy), camera paths and
 // projections. The simulator (simulate.hpp) runs the cullers over a scene frame by frame.
 //
-// A scene declares, and the simulator simulates, only what it declares (issue 8): models (real
+// A scene declares, and the simulator simulates, only what it declares: models (real
 // meshes read from disk and a procedural floor), layouts (grid, row, scatter, single), the
 // hierarchy's target size, the projection (perspective, off-axis, stereo pair, orthographic;
 // a zoom only when declared), the camera path (keyframes, or one of the four path kinds of
@@ -24,6 +24,7 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include <string_view>
 
 namespace cullproof::sim {
 
@@ -135,7 +136,7 @@ struct HierarchyDesc {
 
 enum class ProjectionKind { perspective, off_axis, stereo, orthographic };
 /// "perspective", "off-axis", "stereo", "orthographic".
-const char* to_string(ProjectionKind k) noexcept;
+std::string_view to_string(ProjectionKind k) noexcept;
 
 struct ProjectionDesc {
   ProjectionKind kind = ProjectionKind::perspective;
@@ -148,7 +149,7 @@ struct ProjectionDesc {
 
 enum class PathKind { navigation, translation_rotation, rotation, translation, keyframes };
 /// "navigation", "translation-rotation", "rotation", "translation", "keyframes".
-const char* to_string(PathKind k) noexcept;
+std::string_view to_string(PathKind k) noexcept;
 /// Parses the names above; std::nullopt for anything else.
 std::optional<PathKind> path_kind_from_string(const std::string& s);
 
@@ -259,7 +260,7 @@ std::vector<std::uint32_t> move_objects(const SceneDesc& scene, World& world, in
 
 /// Camera motion between two consecutive frames, as built by the path (not detected).
 enum class FrameMotion { first, still, translation, rotation, general };
-const char* to_string(FrameMotion m) noexcept;
+std::string_view to_string(FrameMotion m) noexcept;
 
 struct CameraFrame {
   glm::dvec3 eye{0.0};

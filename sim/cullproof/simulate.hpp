@@ -24,6 +24,7 @@
 #include <iosfwd>
 #include <string>
 #include <vector>
+#include <string_view>
 
 namespace cullproof::sim {
 
@@ -40,7 +41,7 @@ enum class Config : int {
 };
 inline constexpr int kConfigCount = 9;
 /// The stable name ("pc-octant-tr", ...).
-const char* to_string(Config c) noexcept;
+std::string_view to_string(Config c) noexcept;
 
 /// Options of `cullproof simulate`.
 struct SimulateOptions {

@@ -12,8 +12,7 @@
 // through the same operations one by one with std::fma (correctly rounded, slow), so the
 // verdicts are the same on every machine (the corpus replays them). The plain batch must give pn_vertex's
 // verdicts bit for bit, which rules FMA out for it; it is bound by its 18 loads per vector
-// anyway, not by arithmetic (measured: the plain kernel with MulAdd, 0.433 vs 0.420 ns per box
-// in L2). So the verdicts here are those of the scalar certified tests except
+// anyway, not by arithmetic (bench/cull/NOTES.md). So the verdicts here are those of the scalar certified tests except
 // within the rounding margin, where either may answer `intersecting`; tests/certified checks the
 // kernel bit for bit against a scalar model of these operations.
 //
@@ -284,9 +283,7 @@ HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, s
       const V min01 = covering_pair<kOct>(d, du, pv, planes, i, m, uv);
 #if CULLPROOF_CERT_AVX512
       // Planes 2-5 from the pair's registers: the six loads are all the loads (18 per vector
-      // for the visible bits, 36 with the inside bits, otherwise). Measured with 1M boxes (L3),
-      // paired against the plain batch: with the loads 1.12-1.16x its time, from registers
-      // 1.00-1.06x; in L2 0.96x -> 0.88x. Which array each plane reads is a run-time choice
+      // for the visible bits, 36 with the inside bits, otherwise; bench/cull/NOTES.md). Which array each plane reads is a run-time choice
       // (the octant of its normal), so it is a jump per plane to one of eight straight-line
       // evaluations; `sel` is made opaque per vector, or the compiler would unswitch the loop
       // into 8^4 copies. The indirect jumps always go the same way within a call.
@@ -324,7 +321,7 @@ HWY_INLINE void CertAabbOctant(const CertPlane* planes, float t, float m_safe, s
         }
 #endif
       // Trees, not chains: a short dependency path per vector keeps more vectors in flight while
-      // the loads wait on L3 or memory (measured: the chain cost 10-15% from 256k boxes on).
+      // the loads wait on L3 or memory.
       const V minp = hn::Min(hn::Min(min01, hn::Min(v[2], v[3])), hn::Min(v[4], v[5]));
       V minn = minp;
       if (kInside) minn = hn::Min(hn::Min(hn::Min(q[0], q[1]), hn::Min(q[2], q[3])), hn::Min(q[4], q[5]));

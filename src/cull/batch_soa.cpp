@@ -2,8 +2,8 @@
 //
 // Sources: Assarsson & Möller 2000, §3.1 (n/p-vertex test; "precompute the bitfields ... for
 // each view frustum plane once each frame" — here the min/max array choice is hoisted per plane
-// by the sign of the normal, so the inner loop has no selection at all) (shared/seeds/000);
-// Lighthouse3D sphereInFrustum for spheres (shared/seeds/003). Highway 1.0 foreach_target.h +
+// by the sign of the normal, so the inner loop has no selection at all);
+// Lighthouse3D sphereInFrustum for spheres. Highway 1.0 foreach_target.h +
 // HWY_EXPORT / HWY_DYNAMIC_DISPATCH.
 // Claim: conservative (the verdicts are bit-for-bit pn_vertex / sphere_plane_test):
 //  - each plane value is ((nx*x + ny*y) + nz*z) + d with separate Mul and Add (no MulAdd, and
@@ -25,6 +25,7 @@
 #include "batch_util-inl.h"
 
 #include "cullproof/cull_batch.hpp"
+#include "cullproof/plane_select.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -56,8 +57,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 // Boxes [0, words*64): visible / inside bits. `inside` may be null.
 // Per plane, fl(s + d) < 0 iff s < -d exactly (a rounded sum of two floats has the sign of the
 // exact sum), so comparing s = (nx*x + ny*y) + nz*z with -d gives pn_vertex's verdict without
-// the last Add. Vector-outer, plane-inner: measured faster than plane-outer blocking here
-// (0.54 vs 0.67 ns/box with the data in L2).
+// the last Add. Vector-outer, plane-inner: faster than plane-outer blocking (bench/cull/NOTES.md).
 void AabbKernel(const batch_detail::SelPlane* planes, std::size_t words, std::uint64_t* visible,
                 std::uint64_t* inside) {
   const hn::ScalableTag<float> d;
@@ -73,8 +73,8 @@ void AabbKernel(const batch_detail::SelPlane* planes, std::size_t words, std::ui
     nd[k] = hn::Set(d, -planes[k].d);
   }
   // Large batches (more than 64k boxes, 1.5 MB: past L2) prefetch the six arrays 4 words (1 KB
-  // each) ahead: 1M boxes 0.67-0.70 -> 0.61-0.63 ms here; in L2 the prefetches only cost load
-  // slots (the kernel is load-bound), so small batches do without.
+  // each) ahead; in L2 the prefetches only cost load slots (the kernel is load-bound), so small
+  // batches do without (bench/cull/NOTES.md).
   const float* arr[6] = {planes[0].px, planes[0].py, planes[0].pz, planes[0].qx, planes[0].qy, planes[0].qz};
   const bool prefetch = words > kPrefetchWords;
   for (std::size_t w = 0; w < words; ++w) {
@@ -168,13 +168,11 @@ using batch_detail::SelPlane;
 
 void select_planes(const Frustum& f, const AabbSoa& b, SelPlane (&out)[6]) {
   for (int k = 0; k < 6; ++k) {
-    const Plane& p = f[k];
-    SelPlane& s = out[k];
-    s.nx = p.n.x; s.ny = p.n.y; s.nz = p.n.z; s.d = p.d;
-    // Hoisted per plane: the p-vertex reads max where the normal component is > 0 (pn_vertex).
-    s.px = p.n.x > 0.0f ? b.max_x : b.min_x; s.qx = p.n.x > 0.0f ? b.min_x : b.max_x;
-    s.py = p.n.y > 0.0f ? b.max_y : b.min_y; s.qy = p.n.y > 0.0f ? b.min_y : b.max_y;
-    s.pz = p.n.z > 0.0f ? b.max_z : b.min_z; s.qz = p.n.z > 0.0f ? b.min_z : b.max_z;
+    // The arrays in select_plane's order of a box's six floats.
+    const float* arrays[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
+    const SelectedPlane sel = select_plane(f[k]);
+    out[k] = SelPlane{sel.nx, sel.ny, sel.nz, sel.d, arrays[sel.px], arrays[sel.py], arrays[sel.pz],
+                      arrays[sel.qx], arrays[sel.qy], arrays[sel.qz]};
   }
 }
 

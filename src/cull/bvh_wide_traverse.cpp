@@ -1,9 +1,9 @@
 // Plane-masked culling traversal of the wide BVHs (4 or 8 children per node; Highway, runtime
 // dispatch).
 //
-// Sources: Assarsson & Möller 2000, §3.1 (n/p-vertex test) and §3.4 "Masking" (shared/seeds/000);
+// Sources: Assarsson & Möller 2000, §3.1 (n/p-vertex test) and §3.4 "Masking";
 // Cesium blog "Fast Hierarchical Culling", "Hierarchical Culling with Plane Masking"
-// (shared/seeds/004); the all-children-at-once box test of Dammertz, Hanika & Keller 2008
+//; the all-children-at-once box test of Dammertz, Hanika & Keller 2008
 // (QBVH). Highway 1.0 foreach_target.h + HWY_EXPORT / HWY_DYNAMIC_DISPATCH; vectors of up to W
 // lanes (CappedTag<float, W>: one lane per child; 8 children take one AVX2/AVX-512 vector or two
 // SSE ones, and Highway's one-lane fallback target loops over the lanes).
@@ -40,20 +40,8 @@
 // accepted by its parent, as in cull_bvh_masked); plane_tests = popcount(m) per used lane (every
 // plane of m is evaluated for every lane: no early exit), plus the scalar tests of the root and
 // of the primitives of leaves of more than one primitive (early exit, as cull_bvh_masked).
-// Measured on bench_cull BM_bvh (100k leaves, street view, AVX3 target, 4-wide unless said):
-//  - the output goes through a local stage, one insert per 1024 primitives, and accepted
-//    subtrees of more than 64 primitives are inserted directly (instead of a push_back or an
-//    insert per lane: 55 -> 51 us; 8-wide 46 -> 44 us);
-//  - the deferred lanes' nodes are prefetched when pushed (8-wide: 55 -> 49 us without the
-//    direct inserts); prefetching every interior child before the test was slower (8-wide:
-//    58 us), and so was prefetching in a loop over the descending lanes only (47 us);
-//  - emitting the lanes without a branch per lane (fixed-size copies), and resuming a node's
-//    remaining lanes from one stack frame instead of one entry per lane, were both slower
-//    (60 and 75-80 us): with a still camera the branches are well predicted;
-//  - 8 children per node: 30% fewer nodes popped for the same lanes tested (44 vs 51 us).
-//  - the run output (VisibleRuns, RunSink below): 8-wide street view 36.2-36.6 us against 43.1-45.1
-//    us for the indices in the same runs (quiet machine); a throw-away sink writing nothing,
-//    27.5 us, is the floor of the traversal itself.
+// Design choices (local output stage, direct insert of large accepted subtrees, prefetch of
+// deferred lanes, 8 children per node) and what each was measured against: bench/cull/NOTES.md.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "bvh_wide_traverse.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -87,9 +75,7 @@ using bvh_detail::test_plane;
 // primitive at position k, range(first, end, verdict) for positions first .. end - 1; finish()
 // at the end. The output keeps the order of the calls. What leaves the traversal goes through
 // non-inlined functions taking explicit arguments, so that the sink object's address does not
-// escape and its counter can live in a register. (For IndexSink: 8-wide street view 42.2-42.4 us,
-// as the previous sink that held its buffer, 42.2-42.9; that sink with test_leaf inlined, as the
-// run output needs, measured 46.3-48.1 against 43.4-45.2 for this one in the same session.)
+// escape and its counter can live in a register (bench/cull/NOTES.md).
 
 // Appends idx[0 .. n) and v[0 .. n) to out. (Non-const pointers: with const ones GCC's
 // -Wmaybe-uninitialized assumes the call reads the stage even when n == 0, before anything is
@@ -185,11 +171,7 @@ inline std::uint32_t merge_runs(std::uint32_t* w, std::uint32_t n) {
 // tested leaf) in out.scratch; finish() merges them into maximal runs and writes those to
 // out.runs. The calls cover disjoint non-empty ranges of primitives, so there are at most
 // n_prims of them and a scratch of n_prims runs never fills: the traversal loop holds no flush,
-// no call at all. (Measured, 8-wide, street view of bench_cull's scene, stand-alone harness
-// timing calls in turn: a 256-run stage merged and flushed when full, 38.2 us; a scratch that
-// never fills, 35.0-35.7 us: the call on the rare path cost registers on every path. Merging as
-// the runs come, in the loop, was slower still, 39-40 us: its state lived in spilled registers, a
-// chain through memory at every call.)
+// no call at all: a flush on the rare path costs registers on every path (bench/cull/NOTES.md).
 struct RunSink {
   struct Stage {};
   VisibleRuns* out;

@@ -1,13 +1,13 @@
 // Naive 8-corner per-plane counting test for AABBs.
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", section "Geometric Approach - Testing
-// Boxes", FrustumG::boxInFrustum (shared/seeds/003).
+// Boxes", FrustumG::boxInFrustum.
 // Claim: conservative. A box is rejected only when all eight corners are on the wrong side of
 // one plane (then the whole box is: a half-space is convex). A box outside the frustum but
 // not outside any single plane is reported intersecting (the text's "orange box").
 // Touching: a corner with distance exactly 0 counts as `in` (the text tests `< 0` for out), so
 // a box touching a plane from outside has an `in` corner and is intersecting; a box touching
-// from inside has no `out` corner and is inside. Both agree with CONVENTIONS.
+// from inside has no `out` corner and is inside. Both agree with docs/semantics.md.
 // Corner k: bit 0 selects max.x, bit 1 max.y, bit 2 max.z. The early exit of the inner loop
 // (stop once both counts are non-zero) is kept as published.
 #include "cullproof/cull.hpp"

@@ -3,14 +3,14 @@
 // Sources: Assarsson & Möller 2000, §3.1 ("finding the n- and p-vertices can be done in 9
 // multiplications and 3 comparisons by projecting the normal of the view frustum plane on to
 // the box's axes and test the signs") and figure 4; Lighthouse3D "Geometric Approach - Testing
-// Boxes II" (nb = (bx.n, by.n, bz.n), after Möller & Haines) (shared/seeds/000, 003).
+// Boxes II" (nb = (bx.n, by.n, bz.n), after Möller & Haines) .
 // The p-vertex is c + sum_i s_i h_i u_i with s_i = +1 when dot(u_i, n) > 0 (else -1); the
 // n-vertex is c - sum_i s_i h_i u_i. Each is built in float, then evaluated; sign translation
 // as in pn_vertex.cpp.
 // Claim: conservative (in exact arithmetic the p-vertex is the farthest point of the
 // parallelepiped along n, so rejection is exact per plane); in float the corners are rounded,
 // so errors only within rounding distance of the boundary.
-// Touching: p-vertex value == 0 is intersecting, n-vertex value == 0 is inside, as CONVENTIONS.
+// Touching: p-vertex value == 0 is intersecting, n-vertex value == 0 is inside, as docs/semantics.md.
 #include "cullproof/cull.hpp"
 
 namespace cullproof {

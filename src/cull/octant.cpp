@@ -1,7 +1,6 @@
 // Octant test for symmetric frusta, with the box precondition of figure 6.
 //
-// Source: Assarsson & Möller 2000, §3.3 "The Octant Test", figures 5 and 6, footnotes 5 and 6
-// (shared/seeds/000).
+// Source: Assarsson & Möller 2000, §3.3 "The Octant Test", figures 5 and 6, footnotes 5 and 6.
 // Set-up (once per frame): normalised planes; the frustum centre c_VF (mean of the 8 corners,
 // footnote 5) and d1, its distance to the nearest plane. Refuses (CullerPreconditionError) an
 // unbounded or asymmetric frustum: "for asymmetric frustums the octant test cannot be used".

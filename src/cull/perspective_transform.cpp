@@ -4,7 +4,7 @@
 // bounding volume ... bounded by a minimal AABB ... testing two AABBs against each other, which
 // can be done with only six comparisons after the transformation has been done"; §4: Table 1's
 // speedups are relative to this culler [DirectModel 1.0 Specification, HP 1998]
-// (shared/seeds/000). The DirectModel source is not public; this is the procedure as the paper
+//. The DirectModel source is not public; this is the procedure as the paper
 // describes it: 8 corners times the clip matrix (72+ multiplications), division by w, the NDC
 // AABB of the 8 results, and the six comparisons with the NDC cube ([-1,1]^3, or depth [0,1]
 // for zero_to_one / reversed-Z, whose cube is the same set).
@@ -31,7 +31,7 @@
 // corpus/perspective-transform/). cullproof keeps it as Table 1's baseline and measures it.
 // Touching (both): rejections are strict (`hi.x < -1`, `w + x < 0`), acceptance is `>=`/`<=`,
 // so a box touching a plane from outside is intersecting and one touching from inside is
-// inside, as CONVENTIONS.
+// inside, as docs/semantics.md.
 #include "cullproof/cull.hpp"
 
 #include <algorithm>
@@ -153,7 +153,7 @@ std::optional<glm::mat4> clip_matrix_from_frustum(const Frustum& f) {
     for (int col = 0; col < 4; ++col) out[col][row] = static_cast<float>(rows[row][col]);
   if (f[kFar].is_degenerate()) {
     // Infinite far plane: make r4 - r3 come out with an exactly zero normal in float, as
-    // CONVENTIONS requires ("contains all space"), keeping its offset positive.
+    // docs/semantics.md requires ("contains all space"), keeping its offset positive.
     for (int col = 0; col < 3; ++col) out[col][2] = out[col][3];
     out[3][2] = static_cast<float>(r4.w - s[4] * p[kFar].w);
   }

@@ -1,7 +1,7 @@
 // Plane-coherency test.
 //
-// Source: Assarsson & Möller 2000, §3.2 "The Plane-Coherency Test" (shared/seeds/000);
-// Lighthouse3D "Further Optimization - Plane Coherence" (shared/seeds/003).
+// Source: Assarsson & Möller 2000, §3.2 "The Plane-Coherency Test";
+// Lighthouse3D "Further Optimization - Plane Coherence".
 // "If the BV was outside a plane last frame, then an index to this plane is cached in the BV
 // structure. For each intersection test, we start testing against that plane and test the
 // others afterwards if necessary. We test the planes in the order: left, right, near, far, up,

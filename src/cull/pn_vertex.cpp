@@ -1,16 +1,16 @@
 // n/p-vertex test for AABBs with per-box sign selection.
 //
 // Source: U. Assarsson, T. Möller, "Optimized View Frustum Culling Algorithms for Bounding
-// Boxes", JGT 2000, §3.1 "Basic Intersection Test", figure 4 (shared/seeds/000); the same test
+// Boxes", JGT 2000, §3.1 "Basic Intersection Test", figure 4; the same test
 // is Lighthouse3D "Geometric Approach - Testing Boxes II".
 // Sign translation: A&M call x outside plane i when n_i.x + d_i > 0 (normals point out). With
-// CONVENTIONS (inside when dot(n, x) + d >= 0, normals in) their n-vertex ("negative far
+// docs/semantics.md (inside when dot(n, x) + d >= 0, normals in) their n-vertex ("negative far
 // point") is our p-vertex (the corner farthest along our inward normal), and their `a > 0`
 // rejection is our `eval(p-vertex) < 0`; their `b > 0` (intersect) is `eval(n-vertex) < 0`.
 // Claim: conservative. Outside only when the box is outside one plane; a box outside the
 // frustum near an edge is reported intersecting (A&M fig. 2: "this is an approximation").
 // Touching: p-vertex value == 0 is not rejected (touching from outside is intersecting);
-// n-vertex value == 0 is inside (touching from inside). Agrees with CONVENTIONS.
+// n-vertex value == 0 is inside (touching from inside). Agrees with docs/semantics.md.
 // The plane value is evaluated as ((n.x*x + n.y*y) + n.z*z) + d (Plane::eval); the SIMD batch
 // (batch_soa.cpp) uses the same order so that its verdicts are bit-for-bit the same.
 #include "cullproof/cull.hpp"

@@ -1,7 +1,7 @@
 // p-vertex selection with the branch-free min/max index trick.
 //
 // Source: blog post "View frustum culling (AABB vs Frustum)", section "Implementation",
-// intersectFrustumAABB (shared/seeds/001).
+// intersectFrustumAABB.
 // Two functions:
 //  - p_vertex_post: as published. box[] = {min, max}, index = (int)(a > 0), only the p-vertex
 //    is tested and `dp < -p.d` rejects. The post's test is two-way (intersects or not): it
@@ -12,7 +12,7 @@
 // Claim: conservative (both), as pn_vertex.
 // Touching: `dp < -d` is false for dp == -d, so a box touching a plane from outside is not
 // rejected (intersecting). In float, dp < -d and dp + d < 0 give the same answer (the rounded
-// sum of two floats has the sign of the exact sum), so this is CONVENTIONS' `>= 0` inside.
+// sum of two floats has the sign of the exact sum), so this is docs/semantics.md's `>= 0` inside.
 // Text errors noted: the post's prose says "(a,b,d) is the plane normal" and "if sign(d) > 0,
 // take zmax" in one revision (readers' comments 1-2); the code uses (a,b,c), which is right.
 #include "cullproof/cull.hpp"

@@ -2,7 +2,7 @@
 //
 // Source: Assarsson & Möller 2000, §3.1, last two paragraphs ("we can use this bitfield to get
 // the p-vertex from a Look Up Table", "precompute the bitfields ... once each frame
-// [Haines94]") and §4 (5-10% faster than per-box selection) (shared/seeds/000).
+// [Haines94]") and §4 (5-10% faster than per-box selection).
 // Bitfield: bit k set when component k of the (inward) normal is > 0; the p-vertex takes max
 // on those axes. The n-vertex uses the inverted bitfield ("if we order the LUT properly, we can
 // invert the bitfield to get the n-vertex"). Sign translation as in pn_vertex.cpp.

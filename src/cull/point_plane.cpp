@@ -1,11 +1,11 @@
 // Point plane test.
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", section "Geometric Approach - Testing
-// Points and Spheres", FrustumG::pointInFrustum (shared/seeds/003).
+// Points and Spheres", FrustumG::pointInFrustum.
 // Claim: exact (a point is inside iff dot(n, p) + d >= 0 for all six planes; the only float
 // error is the rounding of the plane evaluation).
-// Touching: `distance < 0` rejects, so a point on a plane is inside (CONVENTIONS: closed sets).
-// The text and CONVENTIONS agree; no correction needed.
+// Touching: `distance < 0` rejects, so a point on a plane is inside (docs/semantics.md: closed sets).
+// The text and docs/semantics.md agree; no correction needed.
 #include "cullproof/cull.hpp"
 
 namespace cullproof {

@@ -4,8 +4,8 @@
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", section "Some Notes and Possible
 // Optimizations": "Spheres as Bounding Volumes for Boxes" (cases A, B, C), "Spheres
-// everywhere", "Axis-Aligned Boxes everywhere" (shared/seeds/003). (The issue calls the
-// section "Further Optimization"; in the text that heading is the coherence section.)
+// everywhere", "Axis-Aligned Boxes everywhere". (The tutorial's heading "Further Optimization" is the
+// coherence section, not this one.)
 // Claims (as stages in front of pn_vertex): conservative.
 //  - box_sphere_stage: the sphere contains the box (radius from the float centre to the
 //    farthest corner, computed in float and enlarged by a derived relative bound), so sphere

@@ -2,14 +2,14 @@
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", sections "Radar Approach - Testing
 // Points", "Testing Points II", "Implementation", "Testing Spheres" and "Implementation II"
-// (shared/seeds/003), after F. Puig Placeres, "Improved Frustum Culling", Game Programming
+//, after F. Puig Placeres, "Improved Frustum Culling", Game Programming
 // Gems 5.
 // Claims: radar-point exact (the radar region is the frustum of the camera); radar-sphere
 // conservative (it is the per-plane sphere test written in camera coordinates: the sphere
 // factor 1/cos(alpha) turns the distance to a side plane into a distance along y or x); the
 // as-published sphere variant: none (it tests a wider frustum, see below).
 // Touching: every rejection is a strict `>`/`<` against the bound, so a point on the boundary
-// is inside and a sphere touching a plane from outside is intersecting, as CONVENTIONS.
+// is inside and a sphere touching a plane from outside is intersecting, as docs/semantics.md.
 //
 // Text errors found, and how they are handled:
 //  1. "Implementation II" setCamInternals computes `tang = tan(angle)` and

@@ -1,14 +1,14 @@
 // Sphere plane test on normalised planes.
 //
 // Source: Lighthouse3D "View Frustum Culling Tutorial", section "Geometric Approach - Testing
-// Points and Spheres", FrustumG::sphereInFrustum (shared/seeds/003); A&M 2000 §5 mention the
+// Points and Spheres", FrustumG::sphereInFrustum; A&M 2000 §5 mention the
 // same test.
 // Claim: conservative. Outside is only returned when the sphere is outside one plane, inside
 // when it is inside every plane; near an edge or corner of the frustum a sphere outside all of
 // it but not outside any single plane is reported intersecting (a false intersect).
 // Touching: `distance < -radius` rejects, so a sphere touching a plane from outside
 // (distance == -radius) is intersecting; `distance < radius` makes one touching from inside
-// (distance == radius) inside. Both agree with CONVENTIONS.
+// (distance == radius) inside. Both agree with docs/semantics.md.
 // Addition to the text: a degenerate plane (n == 0, the far plane of an infinite projection)
 // cannot be normalised; it is skipped when d >= 0 (all space) and rejects when d < 0 (nothing).
 // The text would divide by a zero length.

@@ -1,8 +1,8 @@
 // TR (translation and rotation) coherency test.
 //
-// Source: Assarsson & Möller 2000, §3.5 "The TR Coherency Test", figure 7 (shared/seeds/000);
+// Source: Assarsson & Möller 2000, §3.5 "The TR Coherency Test", figure 7;
 // Lighthouse3D "Further Optimization - Rotation Coherence, Translation Coherence"
-// (shared/seeds/003). Sign translation as in pn_vertex.cpp.
+//. Sign translation as in pn_vertex.cpp.
 //
 // Translation (2): "the distances from all BVs to the same view frustum plane have increased or
 // decreased by the same fixed amount delta d". Detected without a pose: all six normals are

@@ -1,4 +1,4 @@
-// Case files (shared/CONVENTIONS.md "Case format"): one JSON object per case; the corpus stores
+// Case files (docs/semantics.md "Case files"): one JSON object per case; the corpus stores
 // one case per file, batches are JSON Lines. Numbers are JSON numbers or C99 hex-float strings,
 // each rounded once, to the nearest float, from its text (never through double). Writers emit
 // the shortest decimal that reads back to the same float. Malformed input is rejected with a

@@ -1,4 +1,4 @@
-// Certified conservative culling (issue 7): float tests whose decisions carry a rigorous
+// Certified conservative culling: float tests whose decisions carry a rigorous
 // rounding-error bound, derived from the operations performed (src/certified/certified.cpp has
 // the derivation), covering the plane extraction from the matrix as well (end to end). They
 // never give a false reject or a false inside for any valid float input, with or without FMA

@@ -1,4 +1,4 @@
-// Certified conservative SIMD batch culling (issue 7): structure-of-arrays AABBs and spheres,
+// Certified conservative SIMD batch culling: structure-of-arrays AABBs and spheres,
 // Highway runtime dispatch (library cullproof::simd). The certified fast path of
 // certified_pn_vertex / certified_sphere, evaluated with fused multiply-adds (the certified bound
 // allows it; the same verdicts on every machine): the verdicts are those of the scalar functions except

@@ -1,7 +1,7 @@
 // cullproof fast cullers, stateless part: point, sphere, AABB and OBB tests against a frustum,
 // the radar approach, the perspective-transform baseline and the composable pre-test stages.
 //
-// Every function follows shared/CONVENTIONS.md: a point x is inside plane (n, d) when
+// Every function follows docs/semantics.md: a point x is inside plane (n, d) when
 // dot(n, x) + d >= 0, the frustum is the intersection of six closed half-spaces in the order
 // left, right, bottom, top, near, far, and a volume touching the frustum from outside is
 // `intersecting`, never `outside`. Each algorithm lives in its own file in src/cull/, whose
@@ -85,7 +85,8 @@ Visibility aabb_eight_corner(const Frustum& frustum, const Aabb& box) noexcept;
 /// (value < 0): outside; p-vertex outside: intersecting. (src/cull/pn_vertex.cpp)
 Visibility pn_vertex(const Frustum& frustum, const Aabb& box) noexcept;
 
-/// The p-vertex post (shared/seeds/001) min/max index trick made three-way: box[] = {min, max},
+/// The min/max index trick of the blog post "View frustum culling (AABB vs Frustum)",
+/// made three-way: box[] = {min, max},
 /// p index = (n > 0), n index = 1 - p index. Same verdicts as pn_vertex. (src/cull/pn_vertex_index.cpp)
 Visibility pn_vertex_index(const Frustum& frustum, const Aabb& box) noexcept;
 /// The p-vertex post as published: only the p-vertex, `dp < -d` rejects; returns outside or

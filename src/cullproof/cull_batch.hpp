@@ -14,9 +14,9 @@
 namespace cullproof {
 
 /// N boxes as six float arrays. Box i is {min_x[i].., max_x[i]..}. Any alignment is accepted;
-/// 64-byte aligned arrays are faster (no SIMD load straddles two cache lines: 0.60 vs 0.71 ms
-/// per 1M boxes measured with AVX-512; a std::vector of a few MB starts 16 bytes off).
-/// Values must be finite (as CONVENTIONS requires).
+/// 64-byte aligned arrays are faster (no SIMD load straddles two cache lines; a std::vector of a
+/// few MB starts 16 bytes off).
+/// Values must be finite (as docs/semantics.md requires).
 struct AabbSoa {
   const float* min_x = nullptr;
   const float* min_y = nullptr;

@@ -166,16 +166,14 @@ Bvh8 build_bvh8(const Bvh& bvh);
 /// (every used lane of a wide node reached with a non-zero mask; unused lanes are not counted;
 /// the binary nodes collapsed away are never tested); plane_tests counts the planes of m for
 /// every such lane (all are evaluated: no early exit per lane), plus the root's and the
-/// primitives' scalar tests in leaves of more than one primitive. The 8-wide BVH is the faster
-/// of the two on bench_cull (about 30% fewer nodes popped for as many lanes tested).
+/// primitives' scalar tests in leaves of more than one primitive.
 void cull_bvh4_masked(const Frustum& frustum, const Bvh4& bvh, VisibleSet& out, CullStats& stats);
 void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleSet& out, CullStats& stats);
 
 /// The same traversals with the visible set written as runs of leaf order (VisibleRuns): the
 /// same tests, verdicts and counters; expand_runs(out, bvh.prim_order, set) gives exactly the
 /// VisibleSet of the overloads above. An accepted subtree costs one run instead of one index and
-/// one verdict per primitive (bench_cull BM_bvh wide8_runs_street: 54,630 visible primitives in
-/// 1,627 runs; 8-wide, 15-20% faster than the index output there). Throws std::length_error
+/// one verdict per primitive. Throws std::length_error
 /// for a BVH of 2^31 or more primitives.
 void cull_bvh4_masked(const Frustum& frustum, const Bvh4& bvh, VisibleRuns& out, CullStats& stats);
 void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleRuns& out, CullStats& stats);

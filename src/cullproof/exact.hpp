@@ -1,11 +1,12 @@
 // Hoff's OBB test as published, its completed variant, and exact float tests by separating
-// axes (issue 5). See src/exact/*.cpp for the sources, sections and what each adds.
+// axes. See src/exact/*.cpp for the sources, sections and what each adds.
 #pragma once
 
 #include "cullproof/geometry.hpp"
 
 #include <array>
 #include <optional>
+#include <string_view>
 
 namespace cullproof {
 
@@ -19,7 +20,7 @@ enum class HoffStage : std::uint8_t {
   final_reject,    ///< nothing found: rejected
 };
 /// "trivial-reject", "trivial-accept", "edge-face", "containment", "box-edge-face", "final-reject".
-const char* to_string(HoffStage s) noexcept;
+std::string_view to_string(HoffStage s) noexcept;
 
 /// A bounded frustum as a polyhedron: its eight corners (frustum_corners order: bit 0 right,
 /// bit 1 top, bit 2 far) in float, as a float culler holds them.
@@ -34,7 +35,7 @@ std::optional<FrustumPolyhedron> frustum_polyhedron(const Frustum& f);
 /// point (orthographic) or the frustum is degenerate.
 std::optional<glm::vec3> frustum_apex(const Frustum& f);
 
-/// Hoff 1996, exactly as published (shared/seeds/002): outcodes, trivial reject per plane in the
+/// Hoff 1996, exactly as published: outcodes, trivial reject per plane in the
 /// order near, left, right, bottom, top, far, trivial accept on the first corner inside all
 /// planes, 12 frustum edges x 6 OBB faces, then the frustum origin `origin` inside the OBB, else
 /// reject. Needs a bounded frustum (nullopt otherwise). Three-way: `inside` when all eight

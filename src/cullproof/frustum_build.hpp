@@ -4,12 +4,12 @@
 //
 // Sources:
 //  - G. Gribb, K. Hartmann, "Fast Extraction of Viewing Frustum Planes from the
-//    World-View-Projection Matrix", 2001 (row sums as fixed in shared/CONVENTIONS.md "Matrices").
+//    World-View-Projection Matrix", 2001 (row sums as fixed in docs/semantics.md "Frusta from matrices").
 //  - Lighthouse3D "View Frustum Culling Tutorial", sections "Geometric Approach - Extracting the
-//    Planes" and "Clip Space Approach" (shared/seeds/003).
+//    Planes" and "Clip Space Approach".
 //  - K. Hoff, "A 'Fast' Method for Culling of OBBs Against a Perspective Viewing Frustum", 1996:
-//    camera axes, off-axis centre of projection, window on the camera XY plane (shared/seeds/002).
-//  - The p-vertex post (shared/seeds/001): planes in object-local space from a per-object
+//    camera axes, off-axis centre of projection, window on the camera XY plane.
+//  - The blog post "View frustum culling (AABB vs Frustum)": planes in object-local space from a per-object
 //    modelview-projection matrix.
 #pragma once
 
@@ -36,14 +36,14 @@ struct DepthConvention {
 glm::vec4 matrix_row(const glm::mat4& m, int i) noexcept;
 
 /// Gribb–Hartmann extraction in float from clip = m * x. With r1..r4 the rows: left r4+r1,
-/// right r4-r1, bottom r4+r2, top r4-r2; depth per `depth` (CONVENTIONS "Matrices"): near r4+r3
+/// right r4-r1, bottom r4+r2, top r4-r2; depth per `depth` (docs/semantics.md "Frusta from matrices"): near r4+r3
 /// or r3, far r4-r3; reversed-Z swaps the near and far roles. An infinite far plane comes out as
 /// n == 0, d > 0 ("contains all space"), never NaN. Planes are not normalised.
 /// Passing P*V gives world-space planes; passing P*V*M gives planes in M's local space.
 Frustum frustum_from_matrix(const glm::mat4& clip_from_space, DepthConvention depth = {});
 
 /// Planes in an object's local space: frustum_from_matrix(view_proj * model). Test boxes given in
-/// the object's own coordinates against these (the p-vertex post, shared/seeds/001).
+/// the object's own coordinates against these (the blog post "View frustum culling (AABB vs Frustum)").
 Frustum local_frustum(const glm::mat4& view_proj, const glm::mat4& model, DepthConvention depth = {});
 
 /// gluPerspective + gluLookAt parameters (Lighthouse3D). `far_dist` may be +infinity.
@@ -69,7 +69,7 @@ Frustum frustum_from_camera(const PerspectiveCamera& cam);
 /// given depth convention (reversed-Z swaps near and far in the matrix).
 glm::mat4 view_projection(const PerspectiveCamera& cam, DepthConvention depth = {});
 
-/// Hoff's camera (shared/seeds/002): camera axes in world coordinates, an origin, a centre of
+/// Hoff's camera (Hoff 1996): camera axes in world coordinates, an origin, a centre of
 /// projection (COP) in camera coordinates that may be off-axis, a viewplane window on the camera
 /// XY plane (z = 0), near and far planes parallel to it. The camera looks along -z (towards -vpn):
 /// cop.z > near_z > far_z. `far_z` may be -infinity.

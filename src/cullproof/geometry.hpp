@@ -1,6 +1,6 @@
 // cullproof geometry core: the shapes every culler, the oracle and the corpus speak.
 //
-// Semantics are fixed by shared/CONVENTIONS.md:
+// Semantics are fixed by docs/semantics.md:
 //  - a point x is inside plane (n, d) when dot(n, x) + d >= 0; normals point into the frustum;
 //  - a frustum is six planes, left, right, bottom, top, near, far, each a *closed* half-space;
 //  - n == 0 with d > 0 is "all space" (infinite far plane), n == 0 with d < 0 is "nothing".
@@ -39,13 +39,13 @@ struct Plane {
   Plane normalized() const noexcept;
 };
 
-/// Plane order inside a Frustum (CONVENTIONS: left, right, bottom, top, near, far).
+/// Plane order inside a Frustum (docs/semantics.md: left, right, bottom, top, near, far).
 enum PlaneIndex : int { kLeft = 0, kRight = 1, kBottom = 2, kTop = 3, kNear = 4, kFar = 5 };
 inline constexpr int kPlaneCount = 6;
-/// Stable plane names in CONVENTIONS order.
+/// Stable plane names in the plane order of docs/semantics.md.
 std::string_view plane_name(int index) noexcept;
 
-/// The intersection of six closed half-spaces, in CONVENTIONS order. May be unbounded.
+/// The intersection of six closed half-spaces, in the plane order of docs/semantics.md. May be unbounded.
 struct Frustum {
   std::array<Plane, 6> planes{};
 

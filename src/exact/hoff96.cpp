@@ -1,7 +1,7 @@
 // Hoff 1996 as published.
 //
 // Source: Kenny Hoff, "A 'Fast' Method for Culling of Oriented-Bounding Boxes (OBBs) Against a
-// Perspective Viewing Frustum in Large 'Walkthrough' Models", 5/23/96 (shared/seeds/002), the
+// Perspective Viewing Frustum in Large 'Walkthrough' Models", 5/23/96, the
 // whole procedure ("here is the proposed implementation").
 // Claim: exact (the text presents it as an exact overlap test); cullproof checks the claim.
 //
@@ -16,7 +16,7 @@
 //  7. otherwise REJECT.
 // Touching: a vertex on a plane is inside it (eval < 0 sets the bit), face tests are closed.
 // Step 6's point: the caller passes it. The registry passes the centre of projection (the apex
-// of the four side planes), as issue 5 reads "origin (centre of projection)". Hoff adds
+// of the four side planes), reading Hoff's "origin" as the centre of projection. Hoff adds
 // "(assuming viewplane lies between near and far planes)", which suggests a point on the
 // viewplane inside the frustum; the COP is never inside a frustum whose near plane lies in front
 // of it, which is one of the gaps hoff-exact closes.

@@ -1,6 +1,6 @@
 // Hoff's structure completed so that it is exact (in exact arithmetic; float rounding aside).
 //
-// Source: K. Hoff 1996 (shared/seeds/002), the procedure of hoff96.cpp, plus the classical
+// Source: K. Hoff 1996, the procedure of hoff96.cpp, plus the classical
 // characterisation of intersecting convex polyhedra: P and Q meet iff a vertex of one lies in
 // the other, or an edge of one meets a face of the other.
 // Claim: exact (float errors only within rounding distance of the boundary).

@@ -119,7 +119,7 @@ std::optional<glm::vec3> frustum_apex(const Frustum& f) {
   return glm::vec3(x);
 }
 
-const char* to_string(HoffStage s) noexcept {
+std::string_view to_string(HoffStage s) noexcept {
   switch (s) {
     case HoffStage::trivial_reject: return "trivial-reject";
     case HoffStage::trivial_accept: return "trivial-accept";

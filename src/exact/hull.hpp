@@ -60,7 +60,7 @@ bool point_in_obb(const glm::vec3& p, const Obb& box) noexcept;
 /// satisfies the other five planes)? Float.
 bool segment_hits_frustum_face(const glm::vec3& a, const glm::vec3& b, const Frustum& f, int face) noexcept;
 
-/// Hoff's first two stages (shared/seeds/002): 6-bit outcodes of the eight corners, built plane by
+/// Hoff's first two stages: 6-bit outcodes of the eight corners, built plane by
 /// plane in the order near, left, right, bottom, top, far with a trivial reject as soon as the AND
 /// of the codes is non-zero; then a trivial accept if any code is zero (`inside` when all are).
 /// Sets *stage when it decides; nullopt when neither stage decides.

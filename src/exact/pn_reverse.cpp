@@ -1,6 +1,6 @@
 // The "reverse" test: n/p-vertex, then the frustum's corners against the box's planes.
 //
-// Source: the p-vertex post (shared/seeds/001), readers' comments 5-6: "since a frustum is a
+// Source: the blog post "View frustum culling (AABB vs Frustum)", readers' comments 5-6: "since a frustum is a
 // convex solid, the same optimization should work in reverse ... take the normal of the sides of
 // the AABB and test the closest corner of the frustum against it". The forward stage is the
 // n/p-vertex test of Assarsson & Möller 2000 §3.1 (normal projected on the box axes for an OBB).

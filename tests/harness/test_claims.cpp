@@ -1,4 +1,4 @@
-// Every method's claim (CONVENTIONS "Claims"), checked as stated against the exact oracle, on
+// Every method's claim (docs/semantics.md "Claims"), checked as stated against the exact oracle, on
 // every distribution: certified claims with no exception, conservative/exact claims with errors
 // allowed only within the method's documented tolerance (the oracle's exact distance decides).
 // A published method whose claim the corpus already refutes is reported, not failed: its
@@ -57,7 +57,7 @@ TEST_P(Claims, HoldAgainstTheOracle) {
         continue;
       }
       RC_FAIL(m.name + " (claim " + std::string(to_string(m.claim)) + ") says " + std::string(to_string(*v)) +
-              ", truth " + std::string(to_string(truth)) + " (" + to_string(cls) + "), exact distance " +
+              ", truth " + std::string(to_string(truth)) + " (" + std::string(to_string(cls)) + "), exact distance " +
               std::to_string(r.distance) + ", backward distance " + std::to_string(dist) + ", tolerance " + std::to_string(m.tolerance * scale));
     }
   });

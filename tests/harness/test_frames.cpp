@@ -1,4 +1,4 @@
-// Frame coherence and hierarchies against the oracle, over random camera paths (issue 6):
+// Frame coherence and hierarchies against the oracle, over random camera paths:
 //  - stateful cullers (plane coherency, octant, TR coherency) keep state across frames; on every
 //    frame each verdict must be as conservative as the frame-free n/p-vertex test's: never a false
 //    reject or false inside where the truth says otherwise (the published octant test, whose claim

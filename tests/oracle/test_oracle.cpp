@@ -35,7 +35,7 @@ CaseFrustum cube_cut_xyz() {
 
 TEST(OracleTouching, BoxTouchesRightPlaneAtAFace) {
   // Box x ∈ [1,2] shares its face x = 1 with the cube's face: B ∩ F is that square, not empty,
-  // and B is not inside (x = 2 > 1). Touching from outside is intersecting (CONVENTIONS).
+  // and B is not inside (x = 2 > 1). Touching from outside is intersecting (docs/semantics.md).
   const Result r = expect_truth(cube(), box({1, -0.5f, -0.5f}, {2, 0.5f, 0.5f}), Visibility::intersecting);
   // Penetration along the right normal is max_B (1 - x) = 0.
   EXPECT_EQ(r.distance, 0.0);

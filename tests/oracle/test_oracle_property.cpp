@@ -1,11 +1,11 @@
-// The oracle against its independent second method (issue 3, item 5): zero disagreements over
+// The oracle against its independent second method: zero disagreements over
 // generated touching, containment, degenerate and matrix cases. Each case is also classified by
 // the exact route alone (no filter), which must agree with the filtered answer, and the
 // distance must be consistent with the truth.
 //
-// Cases per family: RC_PARAMS max_success when set (CTest sets it, see CMakeLists.txt), else
-// CULLPROOF_ORACLE_CASES_PER_FAMILY (compile definition). A failure logs the case as one case-format JSON line and RapidCheck's
-// reproduce string.
+// Cases per family: RapidCheck's max_success (RC_PARAMS), which CTest sets (see CMakeLists.txt);
+// by hand: RC_PARAMS=max_success=25000 build/tests/oracle/test_oracle_property. A failure logs the
+// case as one case-format JSON line and RapidCheck's reproduce string.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -13,18 +13,8 @@
 
 #include "cullproof/oracle.hpp"
 
-#include <rapidcheck/detail/TestListenerAdapter.h>
-
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <iostream>
-#include <sstream>
 
-#ifndef CULLPROOF_ORACLE_CASES_PER_FAMILY
-#define CULLPROOF_ORACLE_CASES_PER_FAMILY 25000
-#endif
 // The property run and the slow campaign compile this file twice; distinct suite names keep
 // their CTest names (and labels) apart.
 #ifndef CULLPROOF_ORACLE_SUITE
@@ -34,31 +24,8 @@
 namespace cullproof::oracle::test {
 namespace {
 
-std::atomic<long> g_cases{0};
-
-// Runs `property` CULLPROOF_ORACLE_CASES_PER_FAMILY times (RC_PARAMS max_success wins).
-template <class Property>
-void check_family(Property property) {
-  using namespace rc::detail;
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  TestMetadata metadata;
-  metadata.id = std::string(info->test_suite_name()) + "/" + info->name();
-  metadata.description = info->name();
-  TestParams params = configuration().testParams;
-  const char* env = std::getenv("RC_PARAMS");
-  if (env == nullptr || std::strstr(env, "max_success") == nullptr) params.maxSuccess = CULLPROOF_ORACLE_CASES_PER_FAMILY;
-  TestListenerAdapter quiet;
-  const long before = g_cases.load();
-  const auto result = checkProperty(toProperty(property), metadata, params, quiet, configuration().reproduce);
-  std::ostringstream msg;
-  printResultMessage(result, msg);
-  std::cout << metadata.id << ": " << (g_cases.load() - before) << " cases; " << msg.str() << std::endl;
-  if (!result.template is<SuccessResult>()) FAIL() << msg.str();
-}
-
 void check_case(const GenCase& c) {
   RC_LOG() << describe(c) << "\n";
-  ++g_cases;
   const Result r = classify(c.frustum, c.volume);
   const Visibility other = classify_independent(c.frustum, c.volume);
   RC_TAG(std::string(cullproof::to_string(r.truth)), r.filtered ? "filtered" : "exact");
@@ -78,21 +45,13 @@ void check_case(const GenCase& c) {
   }
 }
 
-TEST(CULLPROOF_ORACLE_SUITE, TouchingByConstruction) {
-  check_family([] { check_case(gen_touching()); });
-}
+RC_GTEST_PROP(CULLPROOF_ORACLE_SUITE, TouchingByConstruction, ()) { check_case(gen_touching()); }
 
-TEST(CULLPROOF_ORACLE_SUITE, ContainmentBothWays) {
-  check_family([] { check_case(gen_containment()); });
-}
+RC_GTEST_PROP(CULLPROOF_ORACLE_SUITE, ContainmentBothWays, ()) { check_case(gen_containment()); }
 
-TEST(CULLPROOF_ORACLE_SUITE, DegenerateVolumesAndSpecialPlanes) {
-  check_family([] { check_case(gen_degenerate()); });
-}
+RC_GTEST_PROP(CULLPROOF_ORACLE_SUITE, DegenerateVolumesAndSpecialPlanes, ()) { check_case(gen_degenerate()); }
 
-TEST(CULLPROOF_ORACLE_SUITE, MatrixFrustaAllDepthConventions) {
-  check_family([] { check_case(gen_matrix()); });
-}
+RC_GTEST_PROP(CULLPROOF_ORACLE_SUITE, MatrixFrustaAllDepthConventions, ()) { check_case(gen_matrix()); }
 
 }  // namespace
 }  // namespace cullproof::oracle::test

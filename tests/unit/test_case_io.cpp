@@ -90,7 +90,7 @@ TEST(CaseRead, HexFloatStringsAreExact) {
 
 // 1 + 2^-24 + 2^-60: just above the midpoint between 1 and the next float. Rounded through
 // double it lands exactly on the midpoint and then ties to even (1.0f); rounded once from the
-// text, as CONVENTIONS asks, it is the next float.
+// text, as docs/semantics.md asks, it is the next float.
 TEST(CaseRead, DecimalsRoundOnceToFloatNotThroughDouble) {
   EXPECT_EQ(parse_case_float("1.000000059604644776258", false), std::nextafter(1.0f, 2.0f));
   EXPECT_EQ(float(double(1.000000059604644776258)), 1.0f);  // what double rounding would give
