@@ -6,20 +6,22 @@
 // A cascade, each stage answering only what it can prove (src/certified/exact_certified.cpp
 // derives every bound):
 //  1. planes: the certified n/p-vertex (or projected-radius, or r |n|) test in double on the
-//     exact planes, with a derived margin: clear outside, clear inside, and a volume crossing
-//     exactly one plane with its p-vertex inside it (intersecting);
-//  2. axes: what remains is a small problem in the planes that do not surely contain the volume.
-//     Boxes: a linear programme in the box's own coordinates t in [-1,1]^3 (its dual multipliers
-//     are the separating axes combined from the planes) proves separation by a Farkas combination
-//     of planes, or overlap by a witness point inside every plane; spheres: the distance from the
-//     centre to the frustum's faces, edges and corners (Gram matrices prepared once per frame)
-//     proves separation by a combined plane farther than r, or overlap by a witness point;
+//     exact planes, with a derived margin: clear outside, clear inside, and a box crossing planes
+//     that share its p-vertex, proved inside each of them (intersecting);
+//  2. axes: what remains is a small problem in the planes that do not surely hold the volume.
+//     Witness points prepared once per frame (anchors: an interior point, face centres and
+//     vertices pulled inwards, each certified inside every plane) that the volume holds; boxes:
+//     a linear programme in the box's own coordinates t in [-1,1]^3, whose dual vertices are
+//     SAT's separating axes as combinations of planes, proves separation by a Farkas combination
+//     or overlap by a witness point inside every plane; spheres: the distance from the centre to
+//     the frustum's faces, edges and corners (Gram matrices prepared once per frame) proves
+//     separation by a combined plane farther than r, or overlap by a witness point;
 //  3. exact: what lies inside every bound (touching, or within a few units in the last place of
 //     touching) is decided in exact integer arithmetic (Boost.Multiprecision), no CGAL.
 // The array forms (cullproof/exact_certified_batch.hpp, library cullproof::simd) run the SIMD
 // certified batch first and the cascade on what it leaves.
-// Per-frame set-up (exact planes, scaled planes and margins, Gram matrices, an interior point)
-// happens once, in prepare_exact_certified.
+// Per-frame set-up (exact planes, scaled planes and margins, Gram matrices, anchors) happens
+// once, in prepare_exact_certified.
 #pragma once
 
 #include "cullproof/certified.hpp"
