@@ -42,7 +42,8 @@ ErrorClass error_class(Visibility verdict, Visibility truth, bool three_way = tr
 /// Whether an error of class `e` at exact boundary distance `distance` breaks `claim`, for a
 /// method with rounding tolerance `tolerance` (relative to `scale`, see Method::tolerance). On a
 /// float-exact case (gen::float_exact) nothing rounds, so `conservative` and `exact` claims get no
-/// allowance: every error they forbid breaks them, however close to the boundary.
+/// allowance: every error they forbid breaks them, however close to the boundary. A tolerance of
+/// 0 forgives nothing, not even an error at distance 0.
 bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale, bool float_exact) noexcept;
 
 /// How far an error of class `e` lies from being right, as a backward error in the planes: the

@@ -34,6 +34,12 @@ TEST(Claims, RulesPerClaim) {
   EXPECT_FALSE(violates_claim(Claim::exact, ErrorClass::under_inside, 1e-6, 1e-5, 10.0, false));
   EXPECT_TRUE(violates_claim(Claim::certified_exact, ErrorClass::false_inside, 0.0, 1.0, 1.0, false));
   EXPECT_FALSE(violates_claim(Claim::none, ErrorClass::false_reject, 100.0, 0.0, 1.0, false));
+  // A zero tolerance forgives nothing, not even an error at distance 0 (a volume touching the
+  // boundary): a certified-exact method with a zero band may make no error at all.
+  EXPECT_TRUE(violates_claim(Claim::certified_exact, ErrorClass::under_inside, 0.0, 0.0, 1.0, false));
+  EXPECT_TRUE(violates_claim(Claim::certified_exact, ErrorClass::false_intersect, 0.0, 0.0, 1.0, false));
+  EXPECT_TRUE(violates_claim(Claim::exact, ErrorClass::under_inside, 0.0, 0.0, 1.0, false));
+  EXPECT_FALSE(violates_claim(Claim::conservative, ErrorClass::under_inside, 0.0, 0.0, 1.0, false));
   // Float-exact cases: no rounding allowance for conservative and exact claims, at any distance;
   // a certified band is not a rounding allowance and stays.
   EXPECT_TRUE(violates_claim(Claim::conservative, ErrorClass::false_reject, 0.0, 1e-5, 10.0, true));

@@ -1,0 +1,72 @@
+// Shrinking a mismatch to the simplest case that still shows it (see campaign_internal.hpp).
+#include "campaign_internal.hpp"
+
+#include "cullproof/oracle.hpp"
+
+namespace cullproof::detail {
+
+std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
+  return checked_classify(m, c.frustum, c.volume);
+}
+
+GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, bool violation, int budget) {
+  rc::Shrinkable<gen::GenCase> cur = start;
+  bool progress = true;
+  while (progress && budget > 0) {
+    progress = false;
+    auto seq = cur.shrinks();
+    while (auto next = seq.next()) {
+      if (--budget <= 0) break;
+      const GenCase c = next->value();
+      try {
+        validate(c.volume);
+        const auto v = run_method(m, c);
+        if (!v) continue;
+        if (error_class(*v, oracle::truth(c.frustum, c.volume), m.three_way) != cls) continue;
+        // A claim violation must shrink to a claim violation (not to a rounding-level error).
+        if (violation) {
+          const oracle::Result r = oracle::classify(c.frustum, c.volume, oracle::Options{true, true, false});
+          if (!violates_claim(m.claim, cls, error_distance(c.frustum, c.volume, cls, r.distance), m.tolerance,
+                              gen::case_scale(c.frustum, c.volume), gen::float_exact(c.frustum, c.volume)))
+            continue;
+        }
+        {
+          cur = *next;
+          progress = true;
+          break;
+        }
+      } catch (const std::exception&) {
+        continue;  // an invalid shrink (e.g. a degenerate axis): not a candidate
+      }
+    }
+  }
+  return cur.value();
+}
+
+PathCase shrink_path(PathCase p, const Method& m, ErrorClass cls, Visibility truth, int budget) {
+  auto still = [&](const PathCase& c) {
+    try {
+      const Answer a = checked_classify_path(m, c);
+      return a && error_class(*a, truth, m.three_way) == cls;
+    } catch (const std::exception&) {
+      return false;  // a fault is reported by the run itself, not found by shrinking
+    }
+  };
+  if (p.objects.size() > 1 && budget-- > 0) {
+    PathCase q = p;
+    q.objects = {p.volume()};
+    q.object = 0;
+    if (still(q)) p = std::move(q);
+  }
+  for (std::size_t drop = p.frames.size() - 1; drop >= 1 && budget-- > 0; --drop) {
+    PathCase q = p;
+    q.frames.erase(q.frames.begin(), q.frames.begin() + std::ptrdiff_t(drop));
+    if (still(q)) {
+      p = std::move(q);
+      break;
+    }
+  }
+  return p;
+}
+
+}  // namespace cullproof::detail
