@@ -112,6 +112,14 @@
 //    sum lambda_j |n'_ji|, so its length within 4.0001 u sum lambda_j A'_j (the 1-norm bounds the
 //    2-norm) < kFarkasNormal (1 - gamma_3), and the computed length sqrt(fl(sum n_i^2)) within
 //    2.5001 u of the exact length of the computed normal (taken times 1 + 4u).
+// Multipliers: a certificate holds for any lambda >= 0, and scaling them all by a power of two
+// changes every computed value by the same exact factor; farkas() and sphere_farkas() first scale
+// them so that the largest lies in [1, 2). Products of the smaller ones with small coefficients
+// can still underflow (lambda of three rows is a product of two coefficients, times a third in
+// the combination), each by at most 2^-1075, far fewer than 2^70 of them: the absolute term
+// kUnderflow = 2^-1000 added to each Farkas bound covers them. With the largest multiplier at
+// least 1 it is far below the relative part whenever that row's W_j exceeds 2^-900, so it costs
+// no proof but those of volumes and planes within 2^-900 of the origin (left to the exact stage).
 // What neither proves (a volume within a few units in the last place of touching, or touching)
 // goes to the exact stage, with J.
 //
@@ -134,6 +142,23 @@ constexpr double kU = M::u;
 
 // x rounded up (x >= 0 computed with fewer than 2^10 roundings): every bound is made with it.
 inline double up(double x) noexcept { return x * (1.0 + M::kSlack); }
+
+// Covers the underflows of products of multipliers and coefficients (see "Multipliers").
+constexpr double kUnderflow = 0x1p-1000;
+
+// The multipliers scaled by a power of two (exact) so that the largest lies in [1, 2); false
+// when none is positive and finite.
+bool normalised(const double* lambda, int k, double* out) noexcept {
+  double largest = 0.0;
+  for (int q = 0; q < k; ++q) {
+    if (!(lambda[q] >= 0.0) || !std::isfinite(lambda[q])) return false;
+    largest = std::max(largest, lambda[q]);
+  }
+  if (!(largest > 0.0)) return false;
+  const int e = std::ilogb(largest);
+  for (int q = 0; q < k; ++q) out[q] = std::scalbn(lambda[q], -e);
+  return true;
+}
 
 // The smallest double >= x and the largest <= x, for an x already rounded to nearest from a
 // value within one unit in the last place of it.
@@ -493,7 +518,9 @@ bool witness(const BoxRows& r, const double* t) noexcept {
 
 // Proves the box outside with multipliers lambda[q] >= 0 on rows S[q] (see "Farkas" in the file
 // comment).
-bool farkas(const BoxRows& r, const int* S, const double* lambda, int k) noexcept {
+bool farkas(const BoxRows& r, const int* S, const double* given, int k) noexcept {
+  double lambda[6];
+  if (k > 6 || !normalised(given, k, lambda)) return false;
   double psi0 = 0.0, comb[3] = {0, 0, 0}, weight = 0.0;
   for (int q = 0; q < k; ++q) {
     const double* a = r.a[S[q]];
@@ -502,7 +529,7 @@ bool farkas(const BoxRows& r, const int* S, const double* lambda, int k) noexcep
     weight += lambda[q] * r.w[S[q]];
   }
   const double psi = psi0 + std::abs(comb[0]) + std::abs(comb[1]) + std::abs(comb[2]);
-  return weight > 0.0 && psi < -up(M::kFarkasBox * kU * weight);
+  return weight > 0.0 && psi < -(up(M::kFarkasBox * kU * weight) + kUnderflow);
 }
 
 // The box in the cascade: an AABB (aabb set) or an OBB.
@@ -739,7 +766,9 @@ bool sphere_witness(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s,
 
 // Proves the ball outside P_J with multipliers lambda >= 0 over the planes S (|S| = k).
 bool sphere_farkas(const ExactCertifiedFrustum& f, const double* sc, const double* wc, const int* S, int k,
-                   const double* lambda, double r) noexcept {
+                   const double* given, double r) noexcept {
+  double lambda[3];
+  if (k > 3 || !normalised(given, k, lambda)) return false;
   double value = 0.0, weight = 0.0, na = 0.0, n[3] = {0, 0, 0};
   for (int q = 0; q < k; ++q) {
     const ExactCertifiedPlane& p = f.plane[std::size_t(S[q])];
@@ -750,9 +779,10 @@ bool sphere_farkas(const ExactCertifiedFrustum& f, const double* sc, const doubl
     n[1] += lambda[q] * p.ny;
     n[2] += lambda[q] * p.nz;
   }
-  const double value_up = value + up(M::kFarkasCentre * kU * weight);
+  const double value_up = value + up(M::kFarkasCentre * kU * weight) + kUnderflow;
   if (!(value_up < 0.0)) return false;
-  const double len_up = up(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * (1.0 + 4.0 * kU) + M::kFarkasNormal * kU * na);
+  const double len_up =
+      up(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * (1.0 + 4.0 * kU) + M::kFarkasNormal * kU * na) + kUnderflow;
   return up(r * len_up) < -value_up * (1.0 - 4.0 * kU);
 }
 
