@@ -234,12 +234,6 @@ void classify_and_check(const fs::path& file, int bad_first, int bad_last, const
 
 class ClassifyHostile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("cullproof-classify-hostile-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // The hostile text alone as a one-case file, and among valid cases as JSON Lines.
   void try_both(const std::string& hostile, std::size_t n, Mutator& mut, Tried& tried) {
@@ -272,7 +266,8 @@ class ClassifyHostile : public ::testing::Test {
     classify_and_check(f, first, last, valid, cases, hostile, tried);
   }
 
-  fs::path dir_;
+  cullproof::testing::ScratchDir scratch_{"cullproof-classify-hostile"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(ClassifyHostile, MutatedCasesAreClassifiedOrRefusedByFileLineAndField) {

@@ -65,12 +65,6 @@ int wait_for(pid_t pid) {
 
 class CorpusUnderFaults : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("cullproof-corpus-faults-" + std::to_string(::getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
 
   // An undisturbed run: its files, and the time from its first write to its last (as the entries
   // under its folder change).
@@ -97,7 +91,8 @@ class CorpusUnderFaults : public ::testing::Test {
     return files;
   }
 
-  fs::path root_;
+  cullproof::testing::ScratchDir scratch_{"cullproof-corpus-faults"};
+  const fs::path& root_ = scratch_.path();
 };
 
 // Only complete files of the references (by name and bytes), all readable; the rest temporaries.

@@ -46,17 +46,6 @@ std::string contents(const fs::path& file) {
 
 class FailingOutputs : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("cullproof-failing-outputs-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    for (const auto& e : fs::recursive_directory_iterator(dir_, ec))
-      if (e.is_directory()) fs::permissions(e.path(), fs::perms::owner_all, fs::perm_options::add, ec);
-    fs::remove_all(dir_);
-  }
 
   // The program stopped with a non-zero status and an error "<file>: cannot write: ... <reason>",
   // the file being `path` or under it (a corpus folder).
@@ -79,7 +68,8 @@ class FailingOutputs : public ::testing::Test {
     return d;
   }
 
-  fs::path dir_;
+  cullproof::testing::ScratchDir scratch_{"cullproof-failing-outputs"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(FailingOutputs, JsonToAFullDevice) {
