@@ -1065,13 +1065,13 @@ namespace {
 // Truncated pyramids whose eight corners are integer points: perspective (the far window the
 // larger), off-axis and sheared (near and far windows centred off the axis, each by its own
 // integer offset) and orthographic (the same window at both depths), moved to the world by an
-// exact frame (ExactFrame: signed axis permutation, integer shift). Each plane passes through
-// three corners, so its coefficients are small integers, computed exactly, and points built from
-// the corners with dyadic weights lie exactly on the planes. The families below (exact_touching,
-// exact_containment, exact_degenerate) are aimed at methods that claim to be exact: a volume that
-// touches the boundary exactly, or misses it by one or two ulps, and frusta and volumes that
-// are not what a camera makes (sheared pyramids, non-orthonormal OBB axes, planes that hold
-// everywhere or nowhere).
+// exact frame (ExactFrame: signed axis permutation; its integer shift half the time). Each plane
+// passes through three corners, so its coefficients are small integers, computed exactly, and
+// points built from the corners with dyadic weights lie exactly on the planes. The families
+// below (exact_touching, exact_containment, exact_degenerate) are aimed at methods that claim to
+// be exact: a volume that touches the boundary exactly, or misses it by one or two ulps, and
+// frusta and volumes that are not what a camera makes (sheared pyramids, non-orthonormal OBB
+// axes, planes that hold everywhere or nowhere).
 
 struct IntegerFrustum {
   Frustum planes;

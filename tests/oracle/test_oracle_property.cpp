@@ -10,7 +10,8 @@
 //
 // Cases per property: RapidCheck's max_success (RC_PARAMS), which CTest sets (see CMakeLists.txt);
 // by hand: RC_PARAMS=max_success=25000 build/tests/oracle/test_oracle_property. A failure prints
-// the case in the case format (the GenCase printer) and RapidCheck's reproduce string.
+// every value drawn, a case in the case format (cullproof/arbitrary.hpp), and RapidCheck's
+// reproduce string.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -49,11 +50,7 @@ void check_case(const CaseFrustum& frustum, const Volume& volume) {
   }
 }
 
-// A case drawn inside a property body is not printed by RapidCheck (only arguments are): log it.
-void check_case(const gen::GenCase& c) {
-  RC_LOG() << rc::toString(c) << "\n";
-  check_case(c.frustum, c.volume);
-}
+void check_case(const gen::GenCase& c) { check_case(c.frustum, c.volume); }
 
 // The distributions that build their frustum from a camera: as a float matrix (end-to-end truth)
 // or as the planes extracted from it, perspective, off-axis, orthographic, reversed-Z and
