@@ -74,6 +74,32 @@ rc::Gen<GenCase> case_of(Distribution d);
 /// infinite far; as planes or as a matrix).
 rc::Gen<CaseFrustum> any_frustum();
 
+/// The exact families: cases on truncated pyramids with integer corners (perspective, off-axis,
+/// sheared, orthographic; moved to the world by a signed axis permutation and, half the time, an
+/// integer shift), given as planes with small integer coefficients, some scaled by a power of
+/// two, so that points built from the corners with dyadic weights lie exactly on the boundary.
+/// Aimed at methods that claim exactness (the oracle and its independent method). Not
+/// distributions: `cullproof verify` does not draw them.
+///  - exact_touching: at a corner, an edge point or a face point, a box with a corner there, an
+///    OBB with a vertex there (rotated, by any rotation or by whole-degree angles that leave its
+///    axes a rounding off the coordinate axes; or with small integer axes, neither orthonormal
+///    nor independent), a sphere with an extreme point there, or the point; then each
+///    coordinate moved by 0 to 2 ulps.
+///  - exact_containment: the frustum's bounding box (grown, shrunk or as is, then nudged by ulps),
+///    small boxes, balls from radius 0 to containing the frustum and rotated boxes about its
+///    centroid, and a corner as a point box.
+///  - exact_degenerate: in four cases in ten one plane is special: the far plane infinite
+///    (0, 0, 0, 1), a plane that holds nowhere (0, 0, 0, -1), a plane flipped (often an empty or
+///    unbounded frustum) or the zero plane (0 >= 0 holds everywhere); the volume is a flat,
+///    segment or point box or a zero-radius sphere on the boundary (nudged by ulps), or an
+///    exact_touching volume.
+rc::Gen<GenCase> exact_touching();
+rc::Gen<GenCase> exact_containment();
+rc::Gen<GenCase> exact_degenerate();
+/// Any case: a case of any distribution (parse_distributions("all"), `huge` included) or of an
+/// exact family, each source equally likely. rc::Arbitrary<GenCase> (cullproof/arbitrary.hpp).
+rc::Gen<GenCase> any_case();
+
 /// The campaign's deterministic draw: case `index` of distribution `d` for `seed`, as a
 /// Shrinkable (value() is the case; shrinks() its simpler versions).
 rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index);

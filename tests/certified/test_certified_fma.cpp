@@ -1,14 +1,13 @@
 // The certified guarantee with FMA contraction: this file and src/certified/certified.cpp are
 // compiled with -mfma -ffp-contract=fast, so the plane evaluations and margins may be fused. The
 // derivation (certified.cpp) holds either way; here the oracle checks it on every family.
+#include "cullproof/arbitrary.hpp"
 #include "cullproof/certified.hpp"
 #include "cullproof/generators.hpp"
 #include "cullproof/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
-
-#include "../harness/show.hpp"
 
 using namespace cullproof;
 

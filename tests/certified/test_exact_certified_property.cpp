@@ -4,6 +4,7 @@
 // exact), points as flat boxes, OBBs and balls of radius 0; AABBs and spheres through the batch
 // forms as well. Built twice: as is, and (test_exact_certified_fma) with the float stages compiled
 // with -mfma -ffp-contract=fast, so that the bounds are checked with contraction too.
+#include "cullproof/arbitrary.hpp"
 #include "cullproof/exact_certified.hpp"
 #include "cullproof/exact_certified_batch.hpp"
 #include "cullproof/generators.hpp"
@@ -12,8 +13,6 @@
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
-
-#include "../harness/show.hpp"
 
 #include <algorithm>
 #include <array>

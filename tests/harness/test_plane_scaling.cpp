@@ -6,14 +6,13 @@
 //  - the oracle's truth is the same as on the case as drawn;
 //  - every certified method's verdict on the scaled case is correct (its claim holds: no false
 //    reject, no false inside), as the oracle judges.
+#include "cullproof/arbitrary.hpp"
 #include "cullproof/campaign.hpp"
 #include "cullproof/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 #include <rapidcheck/gtest.h>
-
-#include "show.hpp"
 
 #include <cmath>
 #include <limits>
@@ -92,9 +91,8 @@ bool same_planes_up_to_scaling(const gen::GenCase& a, const gen::GenCase& b) {
 
 }  // namespace
 
-RC_GTEST_PROP(PlaneScaling, PowersOfTwoChangeNoTruthAndNoCertifiedVerdictGoesWrong, ()) {
-  static const std::vector<gen::Distribution> families = gen::parse_distributions("all");
-  const gen::Distribution d = *rc::gen::elementOf(families);
+// Every distribution: the argument is rc::Arbitrary<gen::Distribution> (cullproof/arbitrary.hpp).
+RC_GTEST_PROP(PlaneScaling, PowersOfTwoChangeNoTruthAndNoCertifiedVerdictGoesWrong, (gen::Distribution d)) {
   const gen::GenCase g = *gen::case_of(d);
   const gen::GenCase s = scaled(g);
   RC_TAG(std::string(gen::to_string(d)));
