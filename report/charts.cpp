@@ -5,6 +5,8 @@
 
 #include "cullproof/campaign.hpp"
 
+#include "show.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -23,18 +25,6 @@ const char* kSchema = "https://vega.github.io/schema/vega-lite/v6.json";  // an 
 const std::vector<std::string> kClaims = {"certified-exact", "certified-conservative", "exact", "conservative", "none"};
 const std::vector<std::string> kClaimColours = {"#00441b", "#41ab5d", "#08519c", "#6baed6", "#969696"};
 
-std::string join(const std::vector<std::string>& v, const char* sep) {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
-  return out;
-}
-
-std::string pct(double x) {
-  if (x == 0.0) return "0%";
-  if (x < 1e-6) return fmt::format("{:.2e}%", x * 100);
-  return fmt::format("{:.3g}%", x * 100);
-}
-
 // One point of an accuracy-cost chart.
 struct CostRow {
   std::string method, claim, origin, volumes;
@@ -52,7 +42,7 @@ std::vector<CostRow> cost_rows(const json& verify, const std::string& family, co
       r.method = m.method;
       r.claim = m.claim;
       r.origin = m.origin;
-      r.volumes = join(m.volumes, " + ");
+      r.volumes = show::join(m.volumes, " + ");
       r.refuted = m.refuted;
       r.ns = m.ns_per_test;
       r.ns_own = m.ns_per_test_own;
@@ -77,7 +67,7 @@ std::vector<CostRow> cost_rows(const json& verify, const std::string& family, co
       r.method = j.at("method");
       r.claim = j.at("claim");
       r.origin = j.at("origin");
-      r.volumes = join(j.at("volumes").get<std::vector<std::string>>(), " + ");
+      r.volumes = show::join(j.at("volumes").get<std::vector<std::string>>(), " + ");
       r.refuted = j.at("claim_violations").get<std::uint64_t>() > 0;
       if (j.at("ns_per_test").is_number()) r.ns = j.at("ns_per_test").get<double>();
       if (j.at("ns_per_test_own").is_number()) r.ns_own = j.at("ns_per_test_own").get<double>();
@@ -160,7 +150,7 @@ json accuracy_cost_spec(const json& verify, const std::string& family) {
         {"y", std::max(r.rate, floor)},
         {"y_lo", std::max(r.lo, floor)},
         {"y_hi", std::max(r.hi, floor)},
-        {"rate_text", r.outside ? fmt::format("{} (95% {} to {}): {} of {}", pct(r.rate), pct(r.lo), pct(r.hi), r.fint, r.outside)
+        {"rate_text", r.outside ? fmt::format("{} (95% {} to {}): {} of {}", show::percent(r.rate), show::percent(r.lo), show::percent(r.hi), r.fint, r.outside)
                                 : std::string("no truly outside volume")},
         {"false_reject", r.fr},
         {"false_inside", r.fi},
@@ -248,7 +238,7 @@ json accuracy_cost_spec(const json& verify, const std::string& family) {
                                                       values.size(), s.families.size())
                                         : fmt::format("{} methods", values.size());
   if (most_outside_seen == 0) subtitle += "; no truly outside volume here: no rate to show";
-  if (!untimed.empty()) subtitle += "; not timed: " + join(untimed, ", ");
+  if (!untimed.empty()) subtitle += "; not timed: " + show::join(untimed, ", ");
   return {{"$schema", kSchema},
           {"title", {{"text", title}, {"subtitle", subtitle}, {"anchor", "start"}}},
           {"width", overall ? 720 : 270},

@@ -5,6 +5,8 @@
 
 #include "cullproof/case_io.hpp"
 
+#include "show.hpp"
+
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -23,20 +25,6 @@ using nlohmann::json;
 
 /// The bundles are a few MiB; anything past this is not ours.
 constexpr std::uintmax_t kMaxScriptBytes = std::uintmax_t(64) << 20;
-
-std::string pct(double x) {
-  if (x == 0.0) return "0%";
-  if (x < 1e-6) return fmt::format("{:.2e}%", x * 100);
-  return fmt::format("{:.3g}%", x * 100);
-}
-
-std::string ns(double x) { return x < 10 ? fmt::format("{:.2f}", x) : x < 100 ? fmt::format("{:.1f}", x) : fmt::format("{:.0f}", x); }
-
-std::string join(const std::vector<std::string>& v, const char* sep) {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
-  return out;
-}
 
 const char* kStyle = R"css(
 body { font: 14px/1.45 system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; color: #1a1a1a; margin: 0 auto; max-width: 1280px; padding: 0 24px 48px; }
@@ -89,7 +77,7 @@ std::string summary_html(const Summary& s, const std::set<std::string>& shown_ca
   h += "<table id=\"cheapest\"><tr><th>volume kinds</th><th>ns/test</th><th>false intersects (95% interval)</th>"
        "<th>method</th><th>claim</th></tr>\n";
   for (const VolumeGroup& g : s.cheapest) {
-    const std::string kinds = join(g.volumes, " + ");
+    const std::string kinds = show::join(g.volumes, " + ");
     if (g.front.empty()) {
       h += fmt::format("<tr><td>{}</td><td colspan=\"4\">no method that held its claim was timed on truly outside volumes</td></tr>\n",
                        html_escape(kinds));
@@ -99,7 +87,7 @@ std::string summary_html(const Summary& s, const std::set<std::string>& shown_ca
       const FrontStep& f = g.front[i];
       h += fmt::format("<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{} ({} to {})</td><td><b>{}</b></td><td>{}</td></tr>\n",
                        i == 0 ? html_escape(kinds) + fmt::format(" <small>({} compared)</small>", g.methods) : "",
-                       ns(f.ns_per_test), pct(f.fi_rate), pct(f.fi_low), pct(f.fi_high), html_escape(f.method),
+                       show::nanoseconds(f.ns_per_test), show::percent(f.fi_rate), show::percent(f.fi_low), show::percent(f.fi_high), html_escape(f.method),
                        html_escape(f.claim));
     }
   }

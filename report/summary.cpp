@@ -3,6 +3,8 @@
 
 #include "cullproof/campaign.hpp"
 
+#include "show.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -66,20 +68,6 @@ int kind_rank(const std::string& k) {
     if (k == order[i]) return i;
   return 4;
 }
-
-std::string join(const std::vector<std::string>& v, const char* sep) {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
-  return out;
-}
-
-std::string pct(double x) {
-  if (x == 0.0) return "0%";
-  if (x < 1e-6) return fmt::format("{:.1e}%", x * 100);
-  return fmt::format("{:.3g}%", x * 100);
-}
-
-std::string ns(double x) { return x < 10 ? fmt::format("{:.2f}", x) : x < 100 ? fmt::format("{:.1f}", x) : fmt::format("{:.0f}", x); }
 
 }  // namespace
 
@@ -220,7 +208,7 @@ Summary summarize(const nlohmann::json& verify) {
 
 void print_summary(const Summary& s, std::ostream& out) {
   out << fmt::format("\n== summary: seed {}, {} famil{} ({}), {} method{}\n", s.seed, s.families.size(),
-                     s.families.size() == 1 ? "y" : "ies", join(s.families, ", "), s.methods.size(),
+                     s.families.size() == 1 ? "y" : "ies", show::join(s.families, ", "), s.methods.size(),
                      s.methods.size() == 1 ? "" : "s");
   if (s.broken.empty()) {
     out << "every claim held\n";
@@ -230,11 +218,11 @@ void print_summary(const Summary& s, std::ostream& out) {
       std::vector<std::string> where;
       for (const FamilyBreak& f : b.families) where.push_back(f.family);
       out << fmt::format("  {} ({}, claims {}): {} case{} on {}\n", b.method, b.origin, b.claim, b.violations,
-                         b.violations == 1 ? "" : "s", join(where, ", "));
+                         b.violations == 1 ? "" : "s", show::join(where, ", "));
       for (const FamilyBreak& f : b.families) {
         out << fmt::format("    {}: {} case{}{}", f.family, f.violations, f.violations == 1 ? "" : "s",
                            f.float_exact_violations ? fmt::format(" ({} float-exact)", f.float_exact_violations) : "");
-        if (!f.corpus_ids.empty()) out << "; corpus " << join(f.corpus_ids, ", ");
+        if (!f.corpus_ids.empty()) out << "; corpus " << show::join(f.corpus_ids, ", ");
         else out << "; no corpus case recorded (--no-corpus)";
         out << "\n";
         if (!f.reproduce.empty()) out << "      first: " << f.reproduce << "\n";
@@ -244,15 +232,15 @@ void print_summary(const Summary& s, std::ostream& out) {
   out << "cheapest method for each level of accuracy (a claim made and held; false intersects / truly outside volumes over every "
          "family; cost: median ns/test over families, set-up hoisted):\n";
   for (const VolumeGroup& g : s.cheapest) {
-    const std::string kinds = join(g.volumes, " + ");
+    const std::string kinds = show::join(g.volumes, " + ");
     if (g.front.empty()) {
       out << fmt::format("  {}: no method whose claim held was timed on truly outside volumes\n", kinds);
       continue;
     }
     out << fmt::format("  {} ({} method{} compared):\n", kinds, g.methods, g.methods == 1 ? "" : "s");
     for (const FrontStep& f : g.front)
-      out << fmt::format("    {:>7} ns/test  false intersects {} (95% {}-{})  {} ({})\n", ns(f.ns_per_test),
-                         pct(f.fi_rate), pct(f.fi_low), pct(f.fi_high), f.method, f.claim);
+      out << fmt::format("    {:>7} ns/test  false intersects {} (95% {}-{})  {} ({})\n", show::nanoseconds(f.ns_per_test),
+                         show::percent(f.fi_rate), show::percent(f.fi_low), show::percent(f.fi_high), f.method, f.claim);
   }
 }
 
