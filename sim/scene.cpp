@@ -162,23 +162,8 @@ int axis_from(const Obj& o, const char* key) {
   o.fail(key, "must be \"x\", \"y\" or \"z\"");
 }
 
-}  // namespace
-
-SceneDesc parse_scene(const json& j, const std::string& source) {
-  SceneDesc s;
-  s.file = source;
-  const Obj top(j, "", source);
-  top.allow({"format", "name", "description", "models", "floor", "layout", "hierarchy", "projection", "camera",
-             "moving", "reference"});
-  if (!top.has("format")) top.fail("format", std::string("missing (expected \"") + kSceneFormat + "\")");
-  if (top.str("format") != kSceneFormat)
-    top.fail("format", "is \"" + top.str("format") + "\"; this reader knows \"" + kSceneFormat + "\"");
-  s.name = top.str("name");
-  if (s.name.empty()) top.fail("name", "must not be empty");
-  s.description = top.str("description", "");
-  if (top.has("reference")) s.reference = top.at("reference");
-
-  // models
+// The scene file's sections, each read into `s` (`top`: the whole file's object).
+void read_models(const Obj& top, SceneDesc& s, const std::string& source) {
   if (top.has("models")) {
     const json& ms = top.at("models");
     if (!ms.is_object()) top.fail("models", "must be an object {id: {mesh, size, up}}");
@@ -195,13 +180,9 @@ SceneDesc parse_scene(const json& j, const std::string& source) {
       s.models.push_back(d);
     }
   }
-  auto find_model = [&](const std::string& id) {
-    for (const ModelDesc& m : s.models)
-      if (m.id == id) return true;
-    return false;
-  };
+}
 
-  // floor
+void read_floor(const Obj& top, SceneDesc& s) {
   if (top.has("floor")) {
     const Obj f = top.child("floor");
     f.allow({"size", "tiles", "center"});
@@ -220,8 +201,14 @@ SceneDesc parse_scene(const json& j, const std::string& source) {
     fl.center = f.vec3("center", glm::dvec3(0.0));
     s.floor = fl;
   }
+}
 
-  // layout
+void read_layout(const Obj& top, SceneDesc& s, const std::string& source) {
+  auto find_model = [&](const std::string& id) {
+    for (const ModelDesc& m : s.models)
+      if (m.id == id) return true;
+    return false;
+  };
   if (top.has("layout")) {
     const json& ls = top.at("layout");
     if (!ls.is_array()) top.fail("layout", "must be an array of instance groups");
@@ -249,9 +236,9 @@ SceneDesc parse_scene(const json& j, const std::string& source) {
       s.groups.push_back(d);
     }
   }
-  if (s.groups.empty() && !s.floor) top.fail("layout", "the scene has no geometry (no layout and no floor)");
+}
 
-  // hierarchy
+void read_hierarchy(const Obj& top, SceneDesc& s) {
   if (top.has("hierarchy")) {
     const Obj h = top.child("hierarchy");
     h.allow({"target_nodes", "leaf_triangles"});
@@ -261,104 +248,103 @@ SceneDesc parse_scene(const json& j, const std::string& source) {
   } else {
     s.hierarchy.leaf_triangles = 256;
   }
+}
 
-  // projection
-  {
-    const Obj p = top.child("projection");
-    p.allow({"kind", "fovy", "aspect", "near", "far", "window", "eye_separation", "convergence", "zoom"});
-    const std::string kind = p.str("kind");
-    ProjectionDesc& d = s.projection;
-    if (kind == "perspective") d.kind = ProjectionKind::perspective;
-    else if (kind == "off-axis") d.kind = ProjectionKind::off_axis;
-    else if (kind == "stereo") d.kind = ProjectionKind::stereo;
-    else if (kind == "orthographic") d.kind = ProjectionKind::orthographic;
-    else p.fail("kind", "unknown projection '" + kind + "' (perspective, off-axis, stereo, orthographic)");
-    const bool fov_kind = d.kind == ProjectionKind::perspective || d.kind == ProjectionKind::stereo;
-    const bool window_kind = !fov_kind;
-    if (fov_kind) {
-      d.fovy_deg = p.num("fovy", 60.0);
-      if (!(d.fovy_deg > 0.0 && d.fovy_deg < 180.0)) p.fail("fovy", "must be in (0, 180) degrees");
-      d.aspect = p.positive("aspect", 4.0 / 3.0);
-      if (p.has("window")) p.fail("window", "only for off-axis and orthographic projections");
-    } else {
-      const auto w = p.vec<4>("window");
-      d.left = w[0]; d.right = w[1]; d.bottom = w[2]; d.top = w[3];
-      if (!(d.right > d.left && d.top > d.bottom)) p.fail("window", "must be [left, right, bottom, top] with right > left, top > bottom");
-      if (p.has("fovy")) p.fail("fovy", "not used by a window projection (give \"window\")");
-    }
-    (void)window_kind;
-    d.near_dist = p.num("near", 0.1);
-    d.far_dist = p.num("far", 200.0);
-    if (d.kind != ProjectionKind::orthographic && !(d.near_dist > 0.0)) p.fail("near", "must be > 0");
-    if (!(d.far_dist > d.near_dist)) p.fail("far", "must be greater than near");
-    if (d.kind == ProjectionKind::stereo) {
-      d.eye_separation = p.num("eye_separation", 0.065);
-      if (!(d.eye_separation >= 0.0)) p.fail("eye_separation", "must be >= 0");
-      d.convergence = p.positive("convergence", 2.0);
-    } else {
-      if (p.has("eye_separation")) p.fail("eye_separation", "only for a stereo projection");
-      if (p.has("convergence")) p.fail("convergence", "only for a stereo projection");
-    }
-    if (p.has("zoom")) {
-      if (!fov_kind) p.fail("zoom", "a zoom changes fovy: only for perspective and stereo projections");
-      const Obj z = p.child("zoom");
-      z.allow({"fovy_end"});
-      const double e = z.num("fovy_end");
-      if (!(e > 0.0 && e < 180.0)) z.fail("fovy_end", "must be in (0, 180) degrees");
-      d.zoom_fovy_end = e;
-    }
+void read_projection(const Obj& top, SceneDesc& s) {
+  const Obj p = top.child("projection");
+  p.allow({"kind", "fovy", "aspect", "near", "far", "window", "eye_separation", "convergence", "zoom"});
+  const std::string kind = p.str("kind");
+  ProjectionDesc& d = s.projection;
+  if (kind == "perspective") d.kind = ProjectionKind::perspective;
+  else if (kind == "off-axis") d.kind = ProjectionKind::off_axis;
+  else if (kind == "stereo") d.kind = ProjectionKind::stereo;
+  else if (kind == "orthographic") d.kind = ProjectionKind::orthographic;
+  else p.fail("kind", "unknown projection '" + kind + "' (perspective, off-axis, stereo, orthographic)");
+  const bool fov_kind = d.kind == ProjectionKind::perspective || d.kind == ProjectionKind::stereo;
+  const bool window_kind = !fov_kind;
+  if (fov_kind) {
+    d.fovy_deg = p.num("fovy", 60.0);
+    if (!(d.fovy_deg > 0.0 && d.fovy_deg < 180.0)) p.fail("fovy", "must be in (0, 180) degrees");
+    d.aspect = p.positive("aspect", 4.0 / 3.0);
+    if (p.has("window")) p.fail("window", "only for off-axis and orthographic projections");
+  } else {
+    const auto w = p.vec<4>("window");
+    d.left = w[0]; d.right = w[1]; d.bottom = w[2]; d.top = w[3];
+    if (!(d.right > d.left && d.top > d.bottom)) p.fail("window", "must be [left, right, bottom, top] with right > left, top > bottom");
+    if (p.has("fovy")) p.fail("fovy", "not used by a window projection (give \"window\")");
   }
-
-  // camera
-  {
-    const Obj c = top.child("camera");
-    c.allow({"path", "frames", "speed", "turn", "seed", "eye", "yaw", "pitch", "bounds", "keyframes"});
-    CameraPathDesc& d = s.camera;
-    const std::string kind = c.str("path");
-    const auto k = path_kind_from_string(kind);
-    if (!k) c.fail("path", "unknown path kind '" + kind + "' (navigation, translation-rotation, rotation, translation, keyframes)");
-    d.kind = *k;
-    d.speed = c.num("speed", 0.1);
-    if (!(d.speed >= 0.0)) c.fail("speed", "must be >= 0");
-    d.turn_deg = c.num("turn", 1.0);
-    if (!(d.turn_deg >= 0.0 && d.turn_deg < 90.0)) c.fail("turn", "must be in [0, 90) degrees per frame");
-    d.seed = static_cast<std::uint64_t>(c.count("seed", 1, 0, 1ll << 40));
-    d.eye = c.vec3("eye", d.eye);
-    d.yaw_deg = c.num("yaw", 0.0);
-    d.pitch_deg = c.num("pitch", 0.0);
-    if (!(std::abs(d.pitch_deg) < 89.0)) c.fail("pitch", "must be in (-89, 89) degrees");
-    if (c.has("bounds")) {
-      const auto b = c.vec<4>("bounds");
-      if (!(b[2] > b[0] && b[3] > b[1])) c.fail("bounds", "must be [x0, z0, x1, z1] with x1 > x0, z1 > z0");
-      d.bounds = b;
-    }
-    if (d.kind == PathKind::keyframes) {
-      const json& ks = c.at("keyframes");
-      if (!ks.is_array() || ks.size() < 2) c.fail("keyframes", "must be an array of at least 2 keyframes");
-      for (std::size_t i = 0; i < ks.size(); ++i) {
-        const Obj kf(ks[i], c.field("keyframes") + "[" + std::to_string(i) + "]", source);
-        kf.allow({"frame", "eye", "yaw", "pitch"});
-        Keyframe f;
-        f.frame = kf.count("frame", 0, 0, 10000000);
-        f.eye = kf.vec3("eye", glm::dvec3(0.0));
-        if (!kf.has("eye")) kf.fail("eye", "missing");
-        f.yaw_deg = kf.num("yaw", 0.0);
-        f.pitch_deg = kf.num("pitch", 0.0);
-        if (!(std::abs(f.pitch_deg) < 89.0)) kf.fail("pitch", "must be in (-89, 89) degrees");
-        if (i == 0 && f.frame != 0) kf.fail("frame", "the first keyframe must be frame 0");
-        if (i > 0 && f.frame <= d.keyframes.back().frame) kf.fail("frame", "keyframes must have increasing frames");
-        d.keyframes.push_back(f);
-      }
-      d.frames = d.keyframes.back().frame + 1;
-      if (c.has("frames") && c.count("frames", 1) != d.frames)
-        c.fail("frames", "keyframes end at frame " + std::to_string(d.frames - 1) + "; frames must be " + std::to_string(d.frames));
-    } else {
-      if (c.has("keyframes")) c.fail("keyframes", "only for path \"keyframes\"");
-      d.frames = c.count("frames", 100, 1, 10000000);
-    }
+  (void)window_kind;
+  d.near_dist = p.num("near", 0.1);
+  d.far_dist = p.num("far", 200.0);
+  if (d.kind != ProjectionKind::orthographic && !(d.near_dist > 0.0)) p.fail("near", "must be > 0");
+  if (!(d.far_dist > d.near_dist)) p.fail("far", "must be greater than near");
+  if (d.kind == ProjectionKind::stereo) {
+    d.eye_separation = p.num("eye_separation", 0.065);
+    if (!(d.eye_separation >= 0.0)) p.fail("eye_separation", "must be >= 0");
+    d.convergence = p.positive("convergence", 2.0);
+  } else {
+    if (p.has("eye_separation")) p.fail("eye_separation", "only for a stereo projection");
+    if (p.has("convergence")) p.fail("convergence", "only for a stereo projection");
   }
+  if (p.has("zoom")) {
+    if (!fov_kind) p.fail("zoom", "a zoom changes fovy: only for perspective and stereo projections");
+    const Obj z = p.child("zoom");
+    z.allow({"fovy_end"});
+    const double e = z.num("fovy_end");
+    if (!(e > 0.0 && e < 180.0)) z.fail("fovy_end", "must be in (0, 180) degrees");
+    d.zoom_fovy_end = e;
+  }
+}
 
-  // moving objects
+void read_camera(const Obj& top, SceneDesc& s, const std::string& source) {
+  const Obj c = top.child("camera");
+  c.allow({"path", "frames", "speed", "turn", "seed", "eye", "yaw", "pitch", "bounds", "keyframes"});
+  CameraPathDesc& d = s.camera;
+  const std::string kind = c.str("path");
+  const auto k = path_kind_from_string(kind);
+  if (!k) c.fail("path", "unknown path kind '" + kind + "' (navigation, translation-rotation, rotation, translation, keyframes)");
+  d.kind = *k;
+  d.speed = c.num("speed", 0.1);
+  if (!(d.speed >= 0.0)) c.fail("speed", "must be >= 0");
+  d.turn_deg = c.num("turn", 1.0);
+  if (!(d.turn_deg >= 0.0 && d.turn_deg < 90.0)) c.fail("turn", "must be in [0, 90) degrees per frame");
+  d.seed = static_cast<std::uint64_t>(c.count("seed", 1, 0, 1ll << 40));
+  d.eye = c.vec3("eye", d.eye);
+  d.yaw_deg = c.num("yaw", 0.0);
+  d.pitch_deg = c.num("pitch", 0.0);
+  if (!(std::abs(d.pitch_deg) < 89.0)) c.fail("pitch", "must be in (-89, 89) degrees");
+  if (c.has("bounds")) {
+    const auto b = c.vec<4>("bounds");
+    if (!(b[2] > b[0] && b[3] > b[1])) c.fail("bounds", "must be [x0, z0, x1, z1] with x1 > x0, z1 > z0");
+    d.bounds = b;
+  }
+  if (d.kind == PathKind::keyframes) {
+    const json& ks = c.at("keyframes");
+    if (!ks.is_array() || ks.size() < 2) c.fail("keyframes", "must be an array of at least 2 keyframes");
+    for (std::size_t i = 0; i < ks.size(); ++i) {
+      const Obj kf(ks[i], c.field("keyframes") + "[" + std::to_string(i) + "]", source);
+      kf.allow({"frame", "eye", "yaw", "pitch"});
+      Keyframe f;
+      f.frame = kf.count("frame", 0, 0, 10000000);
+      f.eye = kf.vec3("eye", glm::dvec3(0.0));
+      if (!kf.has("eye")) kf.fail("eye", "missing");
+      f.yaw_deg = kf.num("yaw", 0.0);
+      f.pitch_deg = kf.num("pitch", 0.0);
+      if (!(std::abs(f.pitch_deg) < 89.0)) kf.fail("pitch", "must be in (-89, 89) degrees");
+      if (i == 0 && f.frame != 0) kf.fail("frame", "the first keyframe must be frame 0");
+      if (i > 0 && f.frame <= d.keyframes.back().frame) kf.fail("frame", "keyframes must have increasing frames");
+      d.keyframes.push_back(f);
+    }
+    d.frames = d.keyframes.back().frame + 1;
+    if (c.has("frames") && c.count("frames", 1) != d.frames)
+      c.fail("frames", "keyframes end at frame " + std::to_string(d.frames - 1) + "; frames must be " + std::to_string(d.frames));
+  } else {
+    if (c.has("keyframes")) c.fail("keyframes", "only for path \"keyframes\"");
+    d.frames = c.count("frames", 100, 1, 10000000);
+  }
+}
+
+void read_moving(const Obj& top, SceneDesc& s, const std::string& source) {
   if (top.has("moving")) {
     const json& ms = top.at("moving");
     if (!ms.is_array()) top.fail("moving", "must be an array");
@@ -395,6 +381,32 @@ SceneDesc parse_scene(const json& j, const std::string& source) {
       s.moving.push_back(d);
     }
   }
+}
+
+}  // namespace
+
+SceneDesc parse_scene(const json& j, const std::string& source) {
+  SceneDesc s;
+  s.file = source;
+  const Obj top(j, "", source);
+  top.allow({"format", "name", "description", "models", "floor", "layout", "hierarchy", "projection", "camera",
+             "moving", "reference"});
+  if (!top.has("format")) top.fail("format", std::string("missing (expected \"") + kSceneFormat + "\")");
+  if (top.str("format") != kSceneFormat)
+    top.fail("format", "is \"" + top.str("format") + "\"; this reader knows \"" + kSceneFormat + "\"");
+  s.name = top.str("name");
+  if (s.name.empty()) top.fail("name", "must not be empty");
+  s.description = top.str("description", "");
+  if (top.has("reference")) s.reference = top.at("reference");
+
+  read_models(top, s, source);
+  read_floor(top, s);
+  read_layout(top, s, source);
+  if (s.groups.empty() && !s.floor) top.fail("layout", "the scene has no geometry (no layout and no floor)");
+  read_hierarchy(top, s);
+  read_projection(top, s);
+  read_camera(top, s, source);
+  read_moving(top, s, source);
   return s;
 }
 
