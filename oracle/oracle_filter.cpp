@@ -128,6 +128,19 @@ PlaneState plane_state(const detail::Coeffs<I>& p) {
   return PlaneState::unknown;
 }
 
+// Whether plane j takes part in a filter: false when it contains all space (skip it) or ends the
+// filter (`out` done: an empty plane decides outside with lambda_j = 1, an undecided one leaves
+// the case to the exact route).
+bool takes_part(const detail::Coeffs<I>& p, int j, FilterAnswer& out, bool& done) {
+  const PlaneState st = plane_state(p);
+  done = st == PlaneState::empty || st == PlaneState::unknown;
+  if (st == PlaneState::empty) {
+    out.decided = true;
+    out.lambda[j] = 1.0;
+  }
+  return st == PlaneState::active;
+}
+
 }  // namespace
 
 FilterAnswer filter_box(const CaseFrustum& f, const Volume& v) {
@@ -140,14 +153,11 @@ FilterAnswer filter_box(const CaseFrustum& f, const Volume& v) {
   std::array<std::array<I, 4>, 6> a;
   bool all_in = true, some_out = false;
   for (int j = 0; j < 6; ++j) {
-    const PlaneState st = plane_state(P[j]);
-    if (st == PlaneState::empty) {
-      out.decided = true;
-      out.lambda[j] = 1.0;
-      return out;
+    bool done = false;
+    if (!takes_part(P[j], j, out, done)) {
+      if (done) return out;
+      continue;
     }
-    if (st == PlaneState::unknown) return out;
-    if (st == PlaneState::all_space) continue;
     active[j] = true;
     const auto& p = P[j];
     a[j][0] = p[0] * b.c[0] + p[1] * b.c[1] + p[2] * b.c[2] + p[3];
@@ -244,14 +254,11 @@ FilterAnswer filter_sphere(const CaseFrustum& f, const Sphere& sp) {
   std::array<I, 6> s;
   bool all_in = true, some_out = false, centre_in = true;
   for (int j = 0; j < 6; ++j) {
-    const PlaneState st = plane_state(P[j]);
-    if (st == PlaneState::empty) {
-      out.decided = true;
-      out.lambda[j] = 1.0;
-      return out;
+    bool done = false;
+    if (!takes_part(P[j], j, out, done)) {
+      if (done) return out;
+      continue;
     }
-    if (st == PlaneState::unknown) return out;
-    if (st == PlaneState::all_space) continue;
     active[j] = true;
     const auto& p = P[j];
     s[j] = p[0] * c[0] + p[1] * c[1] + p[2] * c[2] + p[3];

@@ -18,6 +18,14 @@ constexpr std::size_t kChunk = detail::kSoaChunk;
 
 inline bool bit(const std::uint64_t* words, std::size_t i) noexcept { return (words[i >> 6] >> (i & 63)) & 1u; }
 
+// A chunk's verdicts: outside and inside where the certified batch proved them, the cascade
+// (rest(j)) for the others.
+template <class Rest>
+void settle(const std::uint64_t* vis, const std::uint64_t* ins, std::size_t m, Visibility* verdicts, Rest&& rest) {
+  for (std::size_t j = 0; j < m; ++j)
+    verdicts[j] = !bit(vis, j) ? Visibility::outside : bit(ins, j) ? Visibility::inside : rest(j);
+}
+
 }  // namespace
 
 void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes, Visibility* verdicts) {
@@ -27,16 +35,9 @@ void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes,
     const AabbSoa part{boxes.min_x + i0, boxes.min_y + i0, boxes.min_z + i0,
                        boxes.max_x + i0, boxes.max_y + i0, boxes.max_z + i0, m};
     certified_cull_aabbs_bitset(f.certified, part, vis, ins);
-    for (std::size_t j = 0; j < m; ++j) {
-      if (!bit(vis, j)) {
-        verdicts[i0 + j] = Visibility::outside;
-      } else if (bit(ins, j)) {
-        verdicts[i0 + j] = Visibility::inside;
-      } else {
-        const Aabb b{{part.min_x[j], part.min_y[j], part.min_z[j]}, {part.max_x[j], part.max_y[j], part.max_z[j]}};
-        verdicts[i0 + j] = exact_certified_aabb(f, b);
-      }
-    }
+    settle(vis, ins, m, verdicts + i0, [&](std::size_t j) {
+      return exact_certified_aabb(f, Aabb{{part.min_x[j], part.min_y[j], part.min_z[j]}, {part.max_x[j], part.max_y[j], part.max_z[j]}});
+    });
   }
 }
 
@@ -46,15 +47,9 @@ void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& sp
     const std::size_t m = std::min(kChunk, spheres.count - i0);
     const SphereSoa part{spheres.x + i0, spheres.y + i0, spheres.z + i0, spheres.radius + i0, m};
     certified_cull_spheres_bitset(f.certified, part, vis, ins);
-    for (std::size_t j = 0; j < m; ++j) {
-      if (!bit(vis, j)) {
-        verdicts[i0 + j] = Visibility::outside;
-      } else if (bit(ins, j)) {
-        verdicts[i0 + j] = Visibility::inside;
-      } else {
-        verdicts[i0 + j] = exact_certified_sphere(f, Sphere{{part.x[j], part.y[j], part.z[j]}, part.radius[j]});
-      }
-    }
+    settle(vis, ins, m, verdicts + i0, [&](std::size_t j) {
+      return exact_certified_sphere(f, Sphere{{part.x[j], part.y[j], part.z[j]}, part.radius[j]});
+    });
   }
 }
 
