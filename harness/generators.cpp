@@ -1540,7 +1540,7 @@ double case_scale(const CaseFrustum& f, const Volume& v) {
   // rows). 2^-124 is the underflow: a product that underflows errs by up to 2^-150 absolutely,
   // as much as the relative rounding u = 2^-24 of a magnitude 2^-126, four products per plane.
   // In double: the bounds are finite floats (at most FLT_MAX each), so nothing here overflows.
-  const CertifiedFrustum c = certify(f);
+  const CertifiedFrustum::Data c = certify(f).data();
   double s = m;
   for (int k = 0; k < kPlaneCount; ++k) {
     const Plane& p = c.planes[k];

@@ -503,9 +503,10 @@ float plane3_fma(const CertifiedPlane& p, float d, float x, float y, float z) {
   return std::fma(p.nz, z, std::fma(p.ny, y, std::fma(p.nx, x, d)));
 }
 
-Visibility box_fma(const CertifiedFrustum& f, const Aabb& b) {
+Visibility box_fma(const CertifiedFrustum& frustum, const Aabb& b) {
+  const CertifiedFrustum::Data& f = frustum.data();
   const std::uint32_t mb = magnitude_bits(b);
-  if (mb > abs_bits(f.m_safe)) return certified_pn_vertex(f, b);  // the kernels hand these over
+  if (mb > abs_bits(f.m_safe)) return certified_pn_vertex(frustum, b);  // the kernels hand these over
   float m;
   std::memcpy(&m, &mb, sizeof m);
   const float t = f.t_box * m;
@@ -520,10 +521,11 @@ Visibility box_fma(const CertifiedFrustum& f, const Aabb& b) {
   return outside ? Visibility::outside : inside ? Visibility::inside : Visibility::intersecting;
 }
 
-Visibility sphere_fma(const CertifiedFrustum& f, const Sphere& s) {
+Visibility sphere_fma(const CertifiedFrustum& frustum, const Sphere& s) {
+  const CertifiedFrustum::Data& f = frustum.data();
   const glm::vec3& c = s.center;
   const float m = std::max(std::abs(c.x), std::max(std::abs(c.y), std::abs(c.z))) + s.radius;
-  if (abs_bits(m) > abs_bits(f.m_safe)) return certified_sphere(f, s);
+  if (abs_bits(m) > abs_bits(f.m_safe)) return certified_sphere(frustum, s);
   const float t = f.t_sphere * m;
   bool outside = false, inside = true;
   for (int i = 0; i < f.active_count; ++i) {
@@ -553,11 +555,12 @@ struct Padded {  // the tail's copy, padded with zeros (a point box / sphere at 
   float v[6][64];
 };
 
-void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, std::uint64_t* inside) {
+void aabbs(const CertifiedFrustum& frustum, const AabbSoa& b, std::uint64_t* visible, std::uint64_t* inside) {
+  const CertifiedFrustum::Data& f = frustum.data();
   if (f.empty) return clear(bitset_words(b.count), visible, inside);
   if (!certified_batch_uses_fma())
     return one_by_one(b.count, visible, inside, [&](std::size_t i) {
-      return box_fma(f, Aabb{glm::vec3(b.min_x[i], b.min_y[i], b.min_z[i]), glm::vec3(b.max_x[i], b.max_y[i], b.max_z[i])});
+      return box_fma(frustum, Aabb{glm::vec3(b.min_x[i], b.min_y[i], b.min_z[i]), glm::vec3(b.max_x[i], b.max_y[i], b.max_z[i])});
     });
   // The full words of `s` (the boxes, or the padded tail): planes prepared once per array set.
   auto run = [&](const AabbSoa& s, std::size_t full, std::uint64_t* vis, std::uint64_t* ins) {
@@ -582,7 +585,7 @@ void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, 
                                                s.count / 64, v, n, fl);
         },
         [&](std::size_t i) { return magnitude_bits(box(i)) > abs_bits(f.m_safe); },
-        [&](std::size_t i) { return certified_pn_vertex(f, box(i)); });
+        [&](std::size_t i) { return certified_pn_vertex(frustum, box(i)); });
   };
   const std::size_t full = b.count / 64, rest = b.count - full * 64;
   run(b, full, visible, inside);
@@ -598,11 +601,12 @@ void aabbs(const CertifiedFrustum& f, const AabbSoa& b, std::uint64_t* visible, 
   if (inside) inside[full] = ins & keep;
 }
 
-void spheres(const CertifiedFrustum& f, const SphereSoa& s, std::uint64_t* visible, std::uint64_t* inside) {
+void spheres(const CertifiedFrustum& frustum, const SphereSoa& s, std::uint64_t* visible, std::uint64_t* inside) {
+  const CertifiedFrustum::Data& f = frustum.data();
   if (f.empty) return clear(bitset_words(s.count), visible, inside);
   if (!certified_batch_uses_fma())
     return one_by_one(s.count, visible, inside, [&](std::size_t i) {
-      return sphere_fma(f, Sphere{glm::vec3(s.x[i], s.y[i], s.z[i]), s.radius[i]});
+      return sphere_fma(frustum, Sphere{glm::vec3(s.x[i], s.y[i], s.z[i]), s.radius[i]});
     });
   CertPlane planes[6];
   for (int i = 0; i < f.active_count; ++i) {
@@ -620,7 +624,7 @@ void spheres(const CertifiedFrustum& f, const SphereSoa& s, std::uint64_t* visib
           const float m = std::max(std::abs(q.x[i]), std::max(std::abs(q.y[i]), std::abs(q.z[i]))) + q.radius[i];
           return abs_bits(m) > abs_bits(f.m_safe);
         },
-        [&](std::size_t i) { return certified_sphere(f, Sphere{glm::vec3(q.x[i], q.y[i], q.z[i]), q.radius[i]}); });
+        [&](std::size_t i) { return certified_sphere(frustum, Sphere{glm::vec3(q.x[i], q.y[i], q.z[i]), q.radius[i]}); });
   };
   const std::size_t full = s.count / 64, rest = s.count - full * 64;
   run(s, full, visible, inside);

@@ -105,7 +105,7 @@ float up(double x) noexcept { return float_at_least(x + std::abs(x) * 0x1p-50); 
 // d^ 2^-e are exact; the float normal is rounded away from zero, and its rounding error (only
 // when subnormal) is added to the bound: a'_i >= a_i 2^-e + |n'_i - n^_i 2^-e| / u, so that
 // |n'_i - n_i 2^-e| <= u a'_i still holds for the true plane's scaled normal.
-void derive_fast(CertifiedFrustum& c) {
+void derive_fast(CertifiedFrustum::Data& c) {
   double a_max = 0.0, d_max = 0.0;
   for (int i = 0; i < c.active_count; ++i) {
     const int k = c.active[static_cast<std::size_t>(i)];
@@ -149,7 +149,7 @@ void derive_fast(CertifiedFrustum& c) {
 // Computing t = alpha M + beta rounds twice, a factor (1 - u)^2 the margins above allow for.
 // m_safe: with M <= m_safe, A M + a_d <= 2^120 for every plane, so no product, partial sum or
 // margin can overflow (every partial sum is at most (1 + u)^4 times the sum of the magnitudes).
-void derive(CertifiedFrustum& c) {
+void derive(CertifiedFrustum::Data& c) {
   double a_max = 0.0, d_max = 0.0;
   c.active_count = 0;
   c.empty = false;
@@ -186,7 +186,7 @@ int decide_guarded(float lo, float hi, float t) noexcept {
 // The per-plane loop shared by every test. `range(k, t_out)` returns {lo, hi} of the plane's
 // computed value over the volume and the margin for it.
 template <class Range>
-Visibility certified_loop(const CertifiedFrustum& f, bool guarded, Range&& range) {
+Visibility certified_loop(const CertifiedFrustum::Data& f, bool guarded, Range&& range) {
   if (f.empty) return Visibility::outside;
   bool inside = true;
   for (int i = 0; i < f.active_count; ++i) {
@@ -215,7 +215,7 @@ inline glm::vec3 fabs3(const glm::vec3& v) noexcept { return {std::fabs(v.x), st
 // The vertices are chosen by the sign of the scaled normal, which is the sign of n^ (rounded
 // away from zero), hence of the true n. With all six planes active the loop unrolls.
 template <bool kAllSix>
-Visibility pn_vertex_fast(const CertifiedFrustum& f, const Aabb& b, float m) noexcept {
+Visibility pn_vertex_fast(const CertifiedFrustum::Data& f, const Aabb& b, float m) noexcept {
   const float t = f.t_box * m;
   const float neg_t = -t;
   bool inside = true;
@@ -234,7 +234,7 @@ Visibility pn_vertex_fast(const CertifiedFrustum& f, const Aabb& b, float m) noe
 
 // certified_sphere's fast path (M + r <= m_safe, not empty).
 template <bool kAllSix>
-Visibility sphere_fast(const CertifiedFrustum& f, const Sphere& sp, float m) noexcept {
+Visibility sphere_fast(const CertifiedFrustum::Data& f, const Sphere& sp, float m) noexcept {
   const float t = f.t_sphere * m;
   const float neg_t = -t;
   const glm::vec3& c = sp.center;
@@ -260,15 +260,15 @@ inline float box_magnitude(const Aabb& b) noexcept {
 }  // namespace
 
 CertifiedFrustum certify_planes(const Frustum& f) {
-  CertifiedFrustum c;
+  CertifiedFrustum::Data c;
   c.planes = f;
   for (int k = 0; k < 6; ++k) c.bound[k] = glm::vec4(glm::abs(f[k].n), std::abs(f[k].d));
   derive(c);
-  return c;
+  return CertifiedFrustum(std::move(c));
 }
 
 CertifiedFrustum certify_matrix(const glm::mat4& m, DepthConvention depth) {
-  CertifiedFrustum c;
+  CertifiedFrustum::Data c;
   c.planes = frustum_from_matrix(m, depth);
   const glm::vec4 r[4] = {glm::abs(matrix_row(m, 0)), glm::abs(matrix_row(m, 1)), glm::abs(matrix_row(m, 2)),
                           glm::abs(matrix_row(m, 3))};
@@ -295,14 +295,15 @@ CertifiedFrustum certify_matrix(const glm::mat4& m, DepthConvention depth) {
   c.bound[kNear] = depth.reversed_z ? upper : lower;
   c.bound[kFar] = depth.reversed_z ? lower : upper;
   derive(c);
-  return c;
+  return CertifiedFrustum(std::move(c));
 }
 
 CertifiedFrustum certify(const CaseFrustum& f) {
   return f.matrix ? certify_matrix(*f.matrix, f.depth) : certify_planes(f.planes);
 }
 
-Visibility certified_point(const CertifiedFrustum& f, const Point& p) noexcept {
+Visibility certified_point(const CertifiedFrustum& frustum, const Point& p) noexcept {
+  const CertifiedFrustum::Data& f = frustum.data();
   const float m = std::max(std::abs(p.x), std::max(std::abs(p.y), std::abs(p.z)));
   return certified_loop(f, !(m <= f.m_safe), [&](int k, float& t) {
     t = f.alpha_narrow[k] * m + f.beta_narrow[k];
@@ -311,7 +312,8 @@ Visibility certified_point(const CertifiedFrustum& f, const Point& p) noexcept {
   });
 }
 
-Visibility certified_sphere(const CertifiedFrustum& f, const Sphere& sp) noexcept {
+Visibility certified_sphere(const CertifiedFrustum& frustum, const Sphere& sp) noexcept {
+  const CertifiedFrustum::Data& f = frustum.data();
   const glm::vec3& c = sp.center;
   const float m = std::max(std::abs(c.x), std::max(std::abs(c.y), std::abs(c.z))) + sp.radius;
   if (!(m <= f.m_safe) || f.empty) {
@@ -326,7 +328,8 @@ Visibility certified_sphere(const CertifiedFrustum& f, const Sphere& sp) noexcep
   return f.active_count == 6 ? sphere_fast<true>(f, sp, m) : sphere_fast<false>(f, sp, m);
 }
 
-Visibility certified_pn_vertex(const CertifiedFrustum& f, const Aabb& b) noexcept {
+Visibility certified_pn_vertex(const CertifiedFrustum& frustum, const Aabb& b) noexcept {
+  const CertifiedFrustum::Data& f = frustum.data();
   const float m = box_magnitude(b);
   if (!(m <= f.m_safe) || f.empty) {
     return certified_loop(f, true, [&](int k, float& t) {
@@ -342,7 +345,8 @@ Visibility certified_pn_vertex(const CertifiedFrustum& f, const Aabb& b) noexcep
   return f.active_count == 6 ? pn_vertex_fast<true>(f, b, m) : pn_vertex_fast<false>(f, b, m);
 }
 
-Visibility certified_obb_pn_vertex(const CertifiedFrustum& f, const Obb& b) noexcept {
+Visibility certified_obb_pn_vertex(const CertifiedFrustum& frustum, const Obb& b) noexcept {
+  const CertifiedFrustum::Data& f = frustum.data();
   const glm::vec3& c = b.center;
   float h = 0.0f;
   for (int i = 0; i < 3; ++i) {

@@ -32,11 +32,11 @@ using namespace exact_detail;
 namespace {
 
 struct Certifier {
-  const CertifiedFrustum& f;
+  const CertifiedFrustum::Data& f;
   const Obb& b;
   glm::dvec3 v;  // V_j = |c_j| + sum_i h_i |u_ij|
 
-  Certifier(const CertifiedFrustum& fr, const Obb& box) : f(fr), b(box) {
+  Certifier(const CertifiedFrustum& fr, const Obb& box) : f(fr.data()), b(box) {
     for (int j = 0; j < 3; ++j) {
       v[j] = std::abs(double(box.center[j]));
       for (int i = 0; i < 3; ++i) v[j] += double(box.half[i]) * std::abs(double(box.axes[i][j]));
@@ -69,12 +69,13 @@ struct Certifier {
 
 }  // namespace
 
-std::optional<Visibility> certified_sat(const CertifiedFrustum& f, const Obb& b) {
-  const Visibility planes_only = certified_obb_pn_vertex(f, b);
+std::optional<Visibility> certified_sat(const CertifiedFrustum& frustum, const Obb& b) {
+  const CertifiedFrustum::Data& f = frustum.data();
+  const Visibility planes_only = certified_obb_pn_vertex(frustum, b);
   if (planes_only != Visibility::intersecting) return planes_only;
   const auto hull = frustum_hull(f.planes);
   if (!hull || hull->empty) return Visibility::intersecting;  // the plane tests decided what they could
-  const Certifier cert(f, b);
+  const Certifier cert(frustum, b);
   const bool infinite = f.planes[kFar].is_degenerate();
 
   auto try_axis = [&](const glm::vec3& axis) {

@@ -10,10 +10,11 @@
 
 #include <array>
 #include <optional>
+#include <utility>
 
 namespace cullproof {
 
-/// One plane of the certified fast path (CertifiedFrustum::fast_box / fast_sphere).
+/// One plane of the certified fast path (CertifiedFrustum::Data::fast_box / fast_sphere).
 struct CertifiedPlane {
   float nx = 0, ny = 0, nz = 0;  ///< the float normal times 2^-e, rounded away from zero (signs kept)
   float d_out = 0;               ///< d 2^-e + delta, rounded up: the offset of the "outside" test
@@ -26,29 +27,44 @@ struct CertifiedPlane {
 /// |float coefficient - true coefficient| <= u * a (u = 2^-24). For planes given as planes,
 /// a = |plane| (they are the truth). For a matrix, the truth is the exact row sum r4 +- rk and
 /// a = |r4| + |rk| (or |r3| for the [0,1] near plane), componentwise.
-struct CertifiedFrustum {
-  Frustum planes;
-  std::array<glm::vec4, 6> bound{};
-  std::array<float, 6> bound_sum{};  ///< a_x + a_y + a_z, rounded up
-  // Derived once per frame (certify_*): the margin of plane k for a volume whose coordinates
-  // are at most M in magnitude is t = alpha[k] M + beta[k] (8 u bounds, `narrow`, for points and
-  // AABBs; 16 u, `wide`, for spheres and OBBs). Degenerate planes are decided exactly here:
-  // "all space" planes are left out of `active`, a "nothing" plane sets `empty`. Volumes with
-  // M <= m_safe cannot overflow anything in the tests; larger ones take a guarded path.
-  std::array<float, 6> alpha_narrow{}, beta_narrow{}, alpha_wide{}, beta_wide{};
-  std::array<int, 6> active{};
-  int active_count = 0;
-  bool empty = false;
-  float m_safe = 0.0f;
-  // The fast path of the AABB and sphere tests (certified.cpp, "Fast path"), one entry per
-  // active plane in `active` order: plane k scaled by a power of two so that its bound sum is
-  // about 1, the constant part of its margin folded into d_out / d_in, and the part that grows
-  // with the volume's magnitude M made uniform over the planes: T = fl(t * M). A volume is
-  // outside when some plane's value with d_out (plus rho, spheres) is < -T, inside when every
-  // plane's value with d_in (minus rho) is >= T. Per volume this costs M and one product, not a
-  // margin per plane. Used when M <= m_safe; larger volumes take the guarded per-plane path.
-  std::array<CertifiedPlane, 6> fast_box{}, fast_sphere{};
-  float t_box = 0.0f, t_sphere = 0.0f;
+class CertifiedFrustum {
+ public:
+  /// What certify_planes / certify_matrix derive; read through data(). Nothing outside them
+  /// writes it: a changed field would void the bound the tests rely on.
+  struct Data {
+    Frustum planes;
+    std::array<glm::vec4, 6> bound{};
+    std::array<float, 6> bound_sum{};  ///< a_x + a_y + a_z, rounded up
+    // Derived once per frame (certify_*): the margin of plane k for a volume whose coordinates
+    // are at most M in magnitude is t = alpha[k] M + beta[k] (8 u bounds, `narrow`, for points and
+    // AABBs; 16 u, `wide`, for spheres and OBBs). Degenerate planes are decided exactly here:
+    // "all space" planes are left out of `active`, a "nothing" plane sets `empty`. Volumes with
+    // M <= m_safe cannot overflow anything in the tests; larger ones take a guarded path.
+    std::array<float, 6> alpha_narrow{}, beta_narrow{}, alpha_wide{}, beta_wide{};
+    std::array<int, 6> active{};
+    int active_count = 0;
+    bool empty = false;
+    float m_safe = 0.0f;
+    // The fast path of the AABB and sphere tests (certified.cpp, "Fast path"), one entry per
+    // active plane in `active` order: plane k scaled by a power of two so that its bound sum is
+    // about 1, the constant part of its margin folded into d_out / d_in, and the part that grows
+    // with the volume's magnitude M made uniform over the planes: T = fl(t * M). A volume is
+    // outside when some plane's value with d_out (plus rho, spheres) is < -T, inside when every
+    // plane's value with d_in (minus rho) is >= T. Per volume this costs M and one product, not a
+    // margin per plane. Used when M <= m_safe; larger volumes take the guarded per-plane path.
+    std::array<CertifiedPlane, 6> fast_box{}, fast_sphere{};
+    float t_box = 0.0f, t_sphere = 0.0f;
+  };
+
+  /// All space: no plane, every volume inside.
+  CertifiedFrustum() = default;
+  const Data& data() const noexcept { return d_; }
+
+ private:
+  explicit CertifiedFrustum(Data d) noexcept : d_(std::move(d)) {}
+  friend CertifiedFrustum certify_planes(const Frustum& f);
+  friend CertifiedFrustum certify_matrix(const glm::mat4& m, DepthConvention depth);
+  Data d_;
 };
 
 /// Prepares planes given as planes (they are the exact truth).

@@ -66,8 +66,8 @@ TEST(Certified, EndToEndBoundsTheExtractionError) {
   const CertifiedFrustum e2e = certify_matrix(m, {DepthRange::zero_to_one, false});
   const CertifiedFrustum as_planes = certify_planes(frustum_from_matrix(m, {DepthRange::zero_to_one, false}));
   // The far plane's float coefficients carry a rounding error; its bound is larger than |plane|.
-  EXPECT_GT(e2e.bound[kFar].w, std::abs(e2e.planes[kFar].d) * 0.99f);
-  EXPECT_GE(e2e.bound_sum[kFar], as_planes.bound_sum[kFar]);
+  EXPECT_GT(e2e.data().bound[kFar].w, std::abs(e2e.data().planes[kFar].d) * 0.99f);
+  EXPECT_GE(e2e.data().bound_sum[kFar], as_planes.data().bound_sum[kFar]);
   // A box straddling nothing far from every plane is decided the same either way.
   const Aabb mid{{-1, -1, -500}, {1, 1, -400}};
   EXPECT_EQ(certified_pn_vertex(e2e, mid), certified_pn_vertex(as_planes, mid));
@@ -95,7 +95,7 @@ TEST(Certified, HugeCoordinatesNeverOverflowIntoAVerdict) {
   EXPECT_EQ(certified_point(certify_planes(open), Point{0, 0, -big}), V::intersecting);
   // (max, 0, -max) lies beyond the far plane z >= -3, which evaluates without overflow: outside.
   EXPECT_EQ(certified_point(f, Point{big, 0, -big}), V::outside);
-  EXPECT_GT(f.m_safe, 1e30f);
+  EXPECT_GT(f.data().m_safe, 1e30f);
 }
 
 // A scalar model of the SIMD kernels' operations (src/certified/batch_certified.cpp): the fast
@@ -106,11 +106,12 @@ float plane3(const CertifiedPlane& p, float d, float x, float y, float z) {
   return mul_add(p.nz, z, mul_add(p.ny, y, mul_add(p.nx, x, d)));
 }
 
-V model_box(const CertifiedFrustum& f, const Aabb& b) {
+V model_box(const CertifiedFrustum& frustum, const Aabb& b) {
+  const CertifiedFrustum::Data& f = frustum.data();
   if (f.empty) return V::outside;
   const float m = std::max({std::abs(b.min.x), std::abs(b.min.y), std::abs(b.min.z), std::abs(b.max.x),
                             std::abs(b.max.y), std::abs(b.max.z)});
-  if (!(m <= f.m_safe)) return certified_pn_vertex(f, b);  // the kernel hands these lanes over
+  if (!(m <= f.m_safe)) return certified_pn_vertex(frustum, b);  // the kernel hands these lanes over
   const float t = f.t_box * m;
   bool outside = false, inside = true;
   for (int i = 0; i < f.active_count; ++i) {
@@ -123,11 +124,12 @@ V model_box(const CertifiedFrustum& f, const Aabb& b) {
   return outside ? V::outside : inside ? V::inside : V::intersecting;
 }
 
-V model_sphere(const CertifiedFrustum& f, const Sphere& s) {
+V model_sphere(const CertifiedFrustum& frustum, const Sphere& s) {
+  const CertifiedFrustum::Data& f = frustum.data();
   if (f.empty) return V::outside;
   const glm::vec3& c = s.center;
   const float m = std::max(std::abs(c.x), std::max(std::abs(c.y), std::abs(c.z))) + s.radius;
-  if (!(m <= f.m_safe)) return certified_sphere(f, s);
+  if (!(m <= f.m_safe)) return certified_sphere(frustum, s);
   const float t = f.t_sphere * m;
   bool outside = false, inside = true;
   for (int i = 0; i < f.active_count; ++i) {
@@ -271,7 +273,7 @@ TEST(CertifiedBatch, EqualsItsScalarModelBitForBit) {
     int outside = 0, inside = 0;
     for (std::size_t i = 0; i < x.n; ++i) {
       const V v = model_box(f, x.box(i));
-      ASSERT_EQ(bit(vis, i), v != V::outside) << "box " << i << " of " << f.active_count << " planes";
+      ASSERT_EQ(bit(vis, i), v != V::outside) << "box " << i << " of " << f.data().active_count << " planes";
       ASSERT_EQ(bit(ins, i), v == V::inside) << "box " << i;
       ASSERT_EQ(bit(vis_only, i), v != V::outside) << "box " << i << " (visible-only kernel)";
       outside += v == V::outside;
