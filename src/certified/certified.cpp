@@ -90,7 +90,8 @@ namespace cullproof {
 
 namespace {
 
-constexpr float kTiny = 0x1p-126f;  // covers absolute underflow errors
+constexpr float kTiny = CertifiedMargins::kUnderflow;
+constexpr double kNarrow = CertifiedMargins::kNarrow, kWide = CertifiedMargins::kWide;
 
 // x rounded to a float away from zero: never 0 for x != 0, so the sign survives any scaling.
 float away_from_zero(double x) noexcept { return x > 0.0 ? float_at_least(x) : x < 0.0 ? float_at_most(x) : 0.0f; }
@@ -128,7 +129,7 @@ void derive_fast(CertifiedFrustum::Data& c) {
     CertifiedPlane& box = c.fast_box[static_cast<std::size_t>(i)];
     CertifiedPlane& sph = c.fast_sphere[static_cast<std::size_t>(i)];
     box = sph = q;
-    const double delta_box = 0x1p-21 * ad + double(kTiny), delta_sphere = 0x1p-20 * ad + double(kTiny);
+    const double delta_box = kNarrow * ad + double(kTiny), delta_sphere = kWide * ad + double(kTiny);
     box.d_out = up(dx + delta_box);
     box.d_in = -up(-(dx - delta_box));
     sph.d_out = up(dx + delta_sphere);
@@ -136,8 +137,8 @@ void derive_fast(CertifiedFrustum::Data& c) {
     sph.norm = box.norm = std::sqrt(q.nx * q.nx + q.ny * q.ny + q.nz * q.nz);
     d_max = std::max({d_max, std::abs(double(sph.d_out)), std::abs(double(sph.d_in))});
   }
-  c.t_box = float_at_least(0x1p-21 * a_max);
-  c.t_sphere = float_at_least(0x1p-20 * a_max);
+  c.t_box = float_at_least(kNarrow * a_max);
+  c.t_sphere = float_at_least(kWide * a_max);
   // No overflow on the fast path: every partial sum is at most (1 + u)^5 (A' M + |d|) <= 2^121.
   const double room = 0x1p120 - d_max;
   const float m_fast = a_max > 0.0 ? float_at_most(room / a_max) : std::numeric_limits<float>::max();
@@ -155,10 +156,10 @@ void derive(CertifiedFrustum::Data& c) {
   c.empty = false;
   for (int k = 0; k < 6; ++k) {
     c.bound_sum[k] = float_at_least(double(c.bound[k].x) + double(c.bound[k].y) + double(c.bound[k].z));
-    c.alpha_narrow[k] = 0x1p-21f * c.bound_sum[k];
-    c.beta_narrow[k] = float_at_least(0x1p-21 * double(c.bound[k].w) + double(kTiny));
-    c.alpha_wide[k] = 0x1p-20f * c.bound_sum[k];
-    c.beta_wide[k] = float_at_least(0x1p-20 * double(c.bound[k].w) + double(kTiny));
+    c.alpha_narrow[k] = CertifiedMargins::kNarrow * c.bound_sum[k];
+    c.beta_narrow[k] = float_at_least(kNarrow * double(c.bound[k].w) + double(kTiny));
+    c.alpha_wide[k] = CertifiedMargins::kWide * c.bound_sum[k];
+    c.beta_wide[k] = float_at_least(kWide * double(c.bound[k].w) + double(kTiny));
     const Plane& p = c.planes[k];
     if (p.is_degenerate()) {
       // n^ == 0 exactly iff n == 0, and sign(d^) == sign(d): decided exactly.

@@ -22,6 +22,18 @@ struct CertifiedPlane {
   float norm = 0;                ///< fl(sqrt(fl(n.n))) of the scaled normal (sphere tests)
 };
 
+/// The factors of the certified margins, derived in src/certified/certified.cpp from the
+/// standard model with u = 2^-24 (docs/certified.md) and re-derived from it by
+/// tests/certified/test_certified.cpp (CertifiedMargins.*): a margin is factor * bound + kUnderflow.
+struct CertifiedMargins {
+  /// Points and AABBs: covers 5.0001 u, the error of a plane value, after three roundings.
+  static constexpr float kNarrow = 0x1p-21f;
+  /// Spheres (11 u: the plane value and r |n|) and OBBs (13.1 u: the projected half-widths).
+  static constexpr float kWide = 0x1p-20f;
+  /// Every absolute underflow error of a margin's computation (a few 2^-150).
+  static constexpr float kUnderflow = 0x1p-126f;
+};
+
 /// A frustum prepared for certified tests (once per frame). For each plane k: the float plane a
 /// culler uses, and `bound[k]` = (a_x, a_y, a_z, a_d) with |true coefficient| <= a and
 /// |float coefficient - true coefficient| <= u * a (u = 2^-24). For planes given as planes,
