@@ -128,17 +128,15 @@ PlaneState plane_state(const detail::Coeffs<I>& p) {
   return PlaneState::unknown;
 }
 
-// Whether plane j takes part in a filter: false when it contains all space (skip it) or ends the
-// filter (`out` done: an empty plane decides outside with lambda_j = 1, an undecided one leaves
-// the case to the exact route).
-bool takes_part(const detail::Coeffs<I>& p, int j, FilterAnswer& out, bool& done) {
+// plane_state of plane j, an empty plane recorded in `out` as deciding outside (lambda_j = 1):
+// the filter ends on an empty or undecided plane and skips an all-space one.
+PlaneState enter_plane(const detail::Coeffs<I>& p, int j, FilterAnswer& out) {
   const PlaneState st = plane_state(p);
-  done = st == PlaneState::empty || st == PlaneState::unknown;
   if (st == PlaneState::empty) {
     out.decided = true;
     out.lambda[j] = 1.0;
   }
-  return st == PlaneState::active;
+  return st;
 }
 
 }  // namespace
@@ -153,11 +151,9 @@ FilterAnswer filter_box(const CaseFrustum& f, const Volume& v) {
   std::array<std::array<I, 4>, 6> a;
   bool all_in = true, some_out = false;
   for (int j = 0; j < 6; ++j) {
-    bool done = false;
-    if (!takes_part(P[j], j, out, done)) {
-      if (done) return out;
-      continue;
-    }
+    const PlaneState st = enter_plane(P[j], j, out);
+    if (st == PlaneState::empty || st == PlaneState::unknown) return out;
+    if (st == PlaneState::all_space) continue;
     active[j] = true;
     const auto& p = P[j];
     a[j][0] = p[0] * b.c[0] + p[1] * b.c[1] + p[2] * b.c[2] + p[3];
@@ -254,11 +250,9 @@ FilterAnswer filter_sphere(const CaseFrustum& f, const Sphere& sp) {
   std::array<I, 6> s;
   bool all_in = true, some_out = false, centre_in = true;
   for (int j = 0; j < 6; ++j) {
-    bool done = false;
-    if (!takes_part(P[j], j, out, done)) {
-      if (done) return out;
-      continue;
-    }
+    const PlaneState st = enter_plane(P[j], j, out);
+    if (st == PlaneState::empty || st == PlaneState::unknown) return out;
+    if (st == PlaneState::all_space) continue;
     active[j] = true;
     const auto& p = P[j];
     s[j] = p[0] * c[0] + p[1] * c[1] + p[2] * c[2] + p[3];

@@ -19,6 +19,25 @@ inline Visibility bit_verdict(const std::uint64_t* visible, const std::uint64_t*
   return (inside[j >> 6] & bit) ? Visibility::inside : Visibility::intersecting;
 }
 
+/// boxes[0..m) transposed into `a` (m <= kSoaChunk): the SoA view of the chunk.
+inline AabbSoa aabb_soa(const Aabb* boxes, std::size_t m, float (&a)[6][kSoaChunk]) noexcept {
+  for (std::size_t j = 0; j < m; ++j) {
+    const Aabb& b = boxes[j];
+    a[0][j] = b.min.x, a[1][j] = b.min.y, a[2][j] = b.min.z;
+    a[3][j] = b.max.x, a[4][j] = b.max.y, a[5][j] = b.max.z;
+  }
+  return AabbSoa{a[0], a[1], a[2], a[3], a[4], a[5], m};
+}
+
+/// spheres[0..m) transposed into `a` (m <= kSoaChunk): the SoA view of the chunk.
+inline SphereSoa sphere_soa(const Sphere* spheres, std::size_t m, float (&a)[4][kSoaChunk]) noexcept {
+  for (std::size_t j = 0; j < m; ++j) {
+    const Sphere& s = spheres[j];
+    a[0][j] = s.center.x, a[1][j] = s.center.y, a[2][j] = s.center.z, a[3][j] = s.radius;
+  }
+  return SphereSoa{a[0], a[1], a[2], a[3], m};
+}
+
 /// run(const AabbSoa&, std::uint64_t* visible, std::uint64_t* inside) over chunks of `boxes`.
 template <class Run>
 void aabb_batch(const Aabb* boxes, std::size_t n, Visibility* out, Run&& run) {
@@ -26,12 +45,7 @@ void aabb_batch(const Aabb* boxes, std::size_t n, Visibility* out, Run&& run) {
   std::uint64_t vis[kSoaChunk / 64], ins[kSoaChunk / 64];
   for (std::size_t i0 = 0; i0 < n; i0 += kSoaChunk) {
     const std::size_t m = std::min(kSoaChunk, n - i0);
-    for (std::size_t j = 0; j < m; ++j) {
-      const Aabb& b = boxes[i0 + j];
-      a[0][j] = b.min.x, a[1][j] = b.min.y, a[2][j] = b.min.z;
-      a[3][j] = b.max.x, a[4][j] = b.max.y, a[5][j] = b.max.z;
-    }
-    run(AabbSoa{a[0], a[1], a[2], a[3], a[4], a[5], m}, vis, ins);
+    run(aabb_soa(boxes + i0, m, a), vis, ins);
     for (std::size_t j = 0; j < m; ++j) out[i0 + j] = bit_verdict(vis, ins, j);
   }
 }
@@ -43,33 +57,30 @@ void sphere_batch(const Sphere* spheres, std::size_t n, Visibility* out, Run&& r
   std::uint64_t vis[kSoaChunk / 64], ins[kSoaChunk / 64];
   for (std::size_t i0 = 0; i0 < n; i0 += kSoaChunk) {
     const std::size_t m = std::min(kSoaChunk, n - i0);
-    for (std::size_t j = 0; j < m; ++j) {
-      const Sphere& s = spheres[i0 + j];
-      a[0][j] = s.center.x, a[1][j] = s.center.y, a[2][j] = s.center.z, a[3][j] = s.radius;
-    }
-    run(SphereSoa{a[0], a[1], a[2], a[3], m}, vis, ins);
+    run(sphere_soa(spheres + i0, m, a), vis, ins);
     for (std::size_t j = 0; j < m; ++j) out[i0 + j] = bit_verdict(vis, ins, j);
   }
 }
 
-/// One volume through a batch kernel: 64 copies (a full bitset word), so that the vector code,
-/// not the scalar tail, is what the harness checks.
+/// One volume through an array form, batch(const V*, std::size_t, Visibility*): 64 copies (a full
+/// bitset word), so that the vector code, not the scalar tail, is what the harness checks.
+template <class V, class Batch>
+Visibility as_word(const V& v, Batch&& batch) {
+  V copies[64];
+  std::fill(copies, copies + 64, v);
+  Visibility out[64];
+  batch(static_cast<const V*>(copies), std::size_t(64), out);
+  return out[0];
+}
+
 template <class Run>
 Visibility aabb_as_word(const Aabb& b, Run&& run) {
-  Aabb copies[64];
-  std::fill(copies, copies + 64, b);
-  Visibility v[64];
-  aabb_batch(copies, 64, v, run);
-  return v[0];
+  return as_word(b, [&](const Aabb* c, std::size_t n, Visibility* v) { aabb_batch(c, n, v, run); });
 }
 
 template <class Run>
 Visibility sphere_as_word(const Sphere& s, Run&& run) {
-  Sphere copies[64];
-  std::fill(copies, copies + 64, s);
-  Visibility v[64];
-  sphere_batch(copies, 64, v, run);
-  return v[0];
+  return as_word(s, [&](const Sphere* c, std::size_t n, Visibility* v) { sphere_batch(c, n, v, run); });
 }
 
 }  // namespace cullproof::detail

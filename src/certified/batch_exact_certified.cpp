@@ -16,14 +16,14 @@ namespace {
 
 constexpr std::size_t kChunk = detail::kSoaChunk;
 
-inline bool bit(const std::uint64_t* words, std::size_t i) noexcept { return (words[i >> 6] >> (i & 63)) & 1u; }
-
 // A chunk's verdicts: outside and inside where the certified batch proved them, the cascade
 // (rest(j)) for the others.
 template <class Rest>
 void settle(const std::uint64_t* vis, const std::uint64_t* ins, std::size_t m, Visibility* verdicts, Rest&& rest) {
-  for (std::size_t j = 0; j < m; ++j)
-    verdicts[j] = !bit(vis, j) ? Visibility::outside : bit(ins, j) ? Visibility::inside : rest(j);
+  for (std::size_t j = 0; j < m; ++j) {
+    verdicts[j] = detail::bit_verdict(vis, ins, j);
+    if (verdicts[j] == Visibility::intersecting) verdicts[j] = rest(j);
+  }
 }
 
 }  // namespace
@@ -55,27 +55,14 @@ void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& sp
 
 void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, std::size_t n, Visibility* verdicts) {
   alignas(64) float a[6][kChunk];
-  for (std::size_t i0 = 0; i0 < n; i0 += kChunk) {
-    const std::size_t m = std::min(kChunk, n - i0);
-    for (std::size_t j = 0; j < m; ++j) {
-      const Aabb& b = boxes[i0 + j];
-      a[0][j] = b.min.x, a[1][j] = b.min.y, a[2][j] = b.min.z;
-      a[3][j] = b.max.x, a[4][j] = b.max.y, a[5][j] = b.max.z;
-    }
-    exact_certified_aabbs(f, AabbSoa{a[0], a[1], a[2], a[3], a[4], a[5], m}, verdicts + i0);
-  }
+  for (std::size_t i0 = 0; i0 < n; i0 += kChunk)
+    exact_certified_aabbs(f, detail::aabb_soa(boxes + i0, std::min(kChunk, n - i0), a), verdicts + i0);
 }
 
 void exact_certified_spheres(const ExactCertifiedFrustum& f, const Sphere* spheres, std::size_t n, Visibility* verdicts) {
   alignas(64) float a[4][kChunk];
-  for (std::size_t i0 = 0; i0 < n; i0 += kChunk) {
-    const std::size_t m = std::min(kChunk, n - i0);
-    for (std::size_t j = 0; j < m; ++j) {
-      const Sphere& s = spheres[i0 + j];
-      a[0][j] = s.center.x, a[1][j] = s.center.y, a[2][j] = s.center.z, a[3][j] = s.radius;
-    }
-    exact_certified_spheres(f, SphereSoa{a[0], a[1], a[2], a[3], m}, verdicts + i0);
-  }
+  for (std::size_t i0 = 0; i0 < n; i0 += kChunk)
+    exact_certified_spheres(f, detail::sphere_soa(spheres + i0, std::min(kChunk, n - i0), a), verdicts + i0);
 }
 
 }  // namespace cullproof

@@ -40,21 +40,12 @@ const auto sphere_kernel = [](const CertifiedFrustum& f) {
 
 const auto exact_frustum = [](const CaseFrustum& f) { return prepare_exact_certified(f); };
 
-// One volume through the array form as a full word of 64 copies, so that the vector code, not
-// the scalar tail, is what the harness checks (as for the certified batches).
+// One volume through the array form as a full word of 64 copies (detail::as_word).
 Visibility exact_aabb_as_word(const ExactCertifiedFrustum& f, const Aabb& b) {
-  Aabb copies[64];
-  std::fill(copies, copies + 64, b);
-  Visibility v[64];
-  exact_certified_aabbs(f, copies, 64, v);
-  return v[0];
+  return detail::as_word(b, [&](const Aabb* c, std::size_t n, Visibility* v) { exact_certified_aabbs(f, c, n, v); });
 }
 Visibility exact_sphere_as_word(const ExactCertifiedFrustum& f, const Sphere& s) {
-  Sphere copies[64];
-  std::fill(copies, copies + 64, s);
-  Visibility v[64];
-  exact_certified_spheres(f, copies, 64, v);
-  return v[0];
+  return detail::as_word(s, [&](const Sphere* c, std::size_t n, Visibility* v) { exact_certified_spheres(f, c, n, v); });
 }
 
 describe exact_certified(std::string name, std::string description, unsigned volumes) {
