@@ -97,6 +97,37 @@
 // Before building the rows, an AABB whose planes of J agree in sign on every axis (so that they
 // share their p-vertex) and each proved that p-vertex inside is intersecting (stage 1 data).
 //
+// AABBs, the frame's combinations. psi is piecewise linear in lambda, so its minimum lies at a
+// vertex of {lambda >= 0, sum lambda_j W_j = 1} cut by the hyperplanes sum_j lambda_j a_ji = 0: a
+// support of k <= 4 planes with k - 1 box axes cancelled. For an AABB a_ji = n_ji h_i, so the
+// multipliers that cancel axis i (axes i and k) are those that cancel the normals' components:
+// the same rays for every box, prepared once per frame (combinations). Four planes cancel all
+// three axes only where sum lambda_j n_j = 0, and there psi = sum lambda_j d_j >= 0 when P_J is
+// not empty (it holds P). So when the list holds every vertex of one to three planes
+// (comb_complete: an interior point was certified, and every multiplier's sign is known), an
+// AABB meets P_J as soon as every plane of J (its p-vertex proved inside by stage 1) and every
+// combination within J is positive at the box, and any combination negative at it proves it
+// outside. Neither needs rows, witnesses or the programme.
+//  - Multipliers. Two planes whose normals differ in sign on axis i: lambda = (|n'_bi|, |n'_ai|),
+//    within u lambda of those of the exact normals. Three planes, axes i and k: lambda = x cross y
+//    (x, y: the three normals' components i and k); each component is the difference of two
+//    products of rounded coefficients, within (2u + u^2 + gamma_2) P_q < kMultiplier u P_q = dl_q
+//    of the exact one (P_q: the sum of the two products' magnitudes). A triple is kept in the
+//    orientation where every component is >= -dl_q, negative ones set to 0 (towards the exact
+//    ones); where both orientations pass the exact multipliers may point anywhere, and the list
+//    is not complete (unless every P_q is 0: exactly no vertex). All are scaled by a power of two
+//    so that the largest lies in [1, 2).
+//  - Value. The combination at the box, v = fl(C.c + D + sum_i |C_i| h_i) with C, D the rounded
+//    three-term sums of lambda_q (n'_q, d'_q). Against psi of the exact planes, box and
+//    multipliers: the multipliers move it by at most (1 + u) sum dl_q (A'_q X + |d'_q|) (the
+//    exact rows' magnitudes); the coefficients by u (1 + u) sum lambda_q (A'_q X + |d'_q|); C and D
+//    by gamma_3 (1 + u) of the same; c and h (rounded once each) by 2u (1 + u) sum lambda_q A'_q X;
+//    the seven-term evaluation by gamma_7 (1 + gamma_3)(1 + u) of the same. In all at most
+//    13.02 u on the X part and 11.02 u on the |d'| part, below kCombination = 16:
+//    k1 = 2 sum dl_q A'_q + kCombination u sum lambda_q A'_q, k0 the same with |d'_q|, rounded up,
+//    each plus kUnderflow (products of small multipliers and coefficients), and the test is
+//    v < -(k1 X + k0) (1 + kSlack) for outside, v > (k1 X + k0) (1 + kSlack) for positive.
+//
 // Spheres: the ball meets P_J iff the point of P_J nearest its centre is within r. That point is
 // the projection of c onto the planes of a subset S of J (|S| <= 3, independent normals): with the
 // Gram matrix G_S of the scaled normals (prepared once per frame) mu = G_S^-1 s_S, x_S = c - N^T mu,
@@ -424,6 +455,78 @@ void find_interior(ExactCertifiedFrustum& f) {
   }
 }
 
+// The frame's combinations of planes for AABBs (see "AABBs, the frame's combinations").
+void build_combinations(ExactCertifiedFrustum& f) {
+  bool complete = f.has_interior;
+  unsigned support[ExactCertifiedFrustum::kCombinations];
+  auto add = [&](const int* S, const double* lambda_in, const double* dl_in, int k) {
+    double lambda[3], dl[3], largest = 0.0;
+    for (int q = 0; q < k; ++q) largest = std::max(largest, lambda_in[q]);
+    const int e = std::ilogb(largest);
+    for (int q = 0; q < k; ++q) lambda[q] = std::scalbn(lambda_in[q], -e), dl[q] = std::scalbn(dl_in[q], -e);
+    ExactCertifiedFrustum::Combination c;
+    double sa = 0.0, sd = 0.0, ea = 0.0, ed = 0.0;
+    unsigned mask = 0;
+    for (int q = 0; q < k; ++q) {
+      const ExactCertifiedPlane& p = f.plane[std::size_t(S[q])];
+      c.cx += lambda[q] * p.nx, c.cy += lambda[q] * p.ny, c.cz += lambda[q] * p.nz, c.d += lambda[q] * p.d;
+      sa += lambda[q] * p.a, sd += lambda[q] * p.ad, ea += dl[q] * p.a, ed += dl[q] * p.ad;
+      mask |= 1u << S[q];
+    }
+    c.k1 = up(2.0 * ea + M::kCombination * kU * sa) + kUnderflow;
+    c.k0 = up(2.0 * ed + M::kCombination * kU * sd) + kUnderflow;
+    support[f.comb_count] = mask;
+    f.comb[std::size_t(f.comb_count++)] = c;
+  };
+  auto normal = [&](int j, int i) {
+    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+    return i == 0 ? p.nx : i == 1 ? p.ny : p.nz;
+  };
+  for (int a = 0; a < f.count; ++a)
+    for (int b = a + 1; b < f.count; ++b) {
+      for (int i = 0; i < 3; ++i) {
+        const double na = normal(a, i), nb = normal(b, i);
+        if (!((na < 0.0 && nb > 0.0) || (na > 0.0 && nb < 0.0))) continue;
+        const int S[2] = {a, b};
+        const double lambda[2] = {std::abs(nb), std::abs(na)};
+        const double dl[2] = {kU * lambda[0], kU * lambda[1]};
+        add(S, lambda, dl, 2);
+      }
+      for (int c = b + 1; c < f.count; ++c)
+        for (int skip = 0; skip < 3; ++skip) {  // the axis left uncancelled
+          const int i = skip == 0 ? 1 : 0, k = skip == 2 ? 1 : 2;
+          const int S[3] = {a, b, c};
+          const double x[3] = {normal(a, i), normal(b, i), normal(c, i)};
+          const double y[3] = {normal(a, k), normal(b, k), normal(c, k)};
+          double lambda[3], dl[3];
+          bool plus = true, minus = true, zero = true;
+          for (int q = 0; q < 3; ++q) {
+            const int q1 = (q + 1) % 3, q2 = (q + 2) % 3;
+            lambda[q] = x[q1] * y[q2] - x[q2] * y[q1];
+            const double P = std::abs(x[q1] * y[q2]) + std::abs(x[q2] * y[q1]);
+            dl[q] = up(M::kMultiplier * kU * P);
+            zero = zero && P == 0.0;
+            plus = plus && lambda[q] >= -dl[q];
+            minus = minus && lambda[q] <= dl[q];
+          }
+          if (plus && minus) {
+            complete = complete && zero;
+            continue;
+          }
+          if (!plus && !minus) continue;  // mixed signs: no vertex
+          for (double& v : lambda) v = std::max(0.0, minus ? -v : v);
+          add(S, lambda, dl, 3);
+        }
+    }
+  for (unsigned J = 0; J < 64; ++J) {
+    auto& words = f.comb_in[J];
+    words = {0, 0};
+    for (int q = 0; q < f.comb_count; ++q)
+      if ((support[q] & ~J) == 0) words[std::size_t(q / 64)] |= std::uint64_t(1) << (q % 64);
+  }
+  f.comb_complete = complete;
+}
+
 }  // namespace
 
 const char* to_string(ExactStage s) noexcept {
@@ -487,6 +590,7 @@ ExactCertifiedFrustum prepare_exact_certified(const CaseFrustum& cf) {
   f.anchor_x.fill(std::numeric_limits<double>::quiet_NaN());
   f.anchor_y = f.anchor_z = f.anchor_x;
   if (!f.empty) find_interior(f);
+  if (!f.empty) build_combinations(f);
   return f;
 }
 
@@ -668,8 +772,11 @@ Tri box_meets(const ExactCertifiedFrustum& f, const BoxIn& b, const BoxRows& r) 
     if (witness(r, t)) return Tri::yes;
   }
   // The frame's anchors in the box's coordinates, clamped to the cube: the point of the box
-  // nearest each (an AABB's; an OBB's in its own axes).
-  for (int k = 0; k < f.anchor_count; ++k) {
+  // nearest each (an AABB's; an OBB's in its own axes). An AABB was compared with every anchor
+  // already (holds_anchor); of the points nearest them, that nearest the interior point is the
+  // one that proves what the programme below would otherwise have to.
+  const int anchors = b.aabb ? std::min(f.anchor_count, 1) : f.anchor_count;
+  for (int k = 0; k < anchors; ++k) {
     double t[3];
     const std::array<double, 3> x{f.anchor_x[std::size_t(k)], f.anchor_y[std::size_t(k)], f.anchor_z[std::size_t(k)]};
     if (b.obb) {
@@ -965,6 +1072,27 @@ bool aabb_planes(const ExactCertifiedFrustum& f, const Aabb& b, BoxRows& r, doub
   return true;
 }
 
+// Stage 2 of an AABB on the frame's combinations within J (see "AABBs, the frame's
+// combinations"): no when one proves the box outside; yes when the list is complete, every plane
+// of J has its p-vertex proved inside (`singles`) and every combination proves the box on its
+// inner side; unknown otherwise. m: the box's magnitude (stage 1's).
+Tri aabb_combinations(const ExactCertifiedFrustum& f, const Aabb& b, double m, unsigned J, bool singles) noexcept {
+  const double lo0 = b.min.x, lo1 = b.min.y, lo2 = b.min.z, hi0 = b.max.x, hi1 = b.max.y, hi2 = b.max.z;
+  const double c0 = 0.5 * (lo0 + hi0), c1 = 0.5 * (lo1 + hi1), c2 = 0.5 * (lo2 + hi2);
+  const double h0 = 0.5 * (hi0 - lo0), h1 = 0.5 * (hi1 - lo1), h2 = 0.5 * (hi2 - lo2);
+  bool positive = singles && f.comb_complete;
+  for (std::size_t w = 0; w < 2; ++w)
+    for (std::uint64_t bits = f.comb_in[J][w]; bits != 0; bits &= bits - 1) {
+      const ExactCertifiedFrustum::Combination& q = f.comb[64 * w + std::size_t(__builtin_ctzll(bits))];
+      const double v = ((q.cx * c0 + q.cy * c1) + (q.cz * c2 + q.d)) +
+                       ((std::abs(q.cx) * h0 + std::abs(q.cy) * h1) + std::abs(q.cz) * h2);
+      const double t = up(q.k1 * m + q.k0);
+      if (v < -t) return Tri::no;
+      positive = positive && v > t;
+    }
+  return positive ? Tri::yes : Tri::unknown;
+}
+
 }  // namespace
 
 Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, ExactStage* stage) {
@@ -984,6 +1112,8 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
     // An anchor of the frame (a point certified inside every plane) that the box holds, compared
     // exactly.
     if (holds_anchor(f, b)) return Visibility::intersecting;
+    const Tri meets = aabb_combinations(f, b, m, J, p_in == J);
+    if (meets != Tri::unknown) return meets == Tri::yes ? Visibility::intersecting : Visibility::outside;
   }
   finish_rows(f, r, m, J);
   return box_rest(f, BoxIn{&b, nullptr}, r, crossing, stage);

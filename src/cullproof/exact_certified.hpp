@@ -69,6 +69,12 @@ struct ExactMargins {
   /// for the value, kFarkasNormal u sum lambda_j A'_j for the normal.
   static constexpr double kFarkasCentre = 12.0;
   static constexpr double kFarkasNormal = 8.0;
+  /// Stage 2 of AABBs, the frame's combinations of planes (C, D) = sum lambda_q (n'_q, d'_q) at a
+  /// box: |computed - exact| <= kCombination u sum lambda_q (A'_q X + |d'_q|), plus what the
+  /// multipliers themselves err by (kMultiplier u times the sum of the magnitudes of the two
+  /// products each is the difference of, for three planes; u lambda_q for two).
+  static constexpr double kCombination = 16.0;
+  static constexpr double kMultiplier = 5.0;
   /// Relative slack added to every computed bound before it is compared (covers the few
   /// roundings of the bound itself: each is at most u, and there are fewer than 2^10).
   static constexpr double kSlack = 0x1p-40;
@@ -117,6 +123,26 @@ struct ExactCertifiedFrustum {
   std::array<double, kAnchors> anchor_x{}, anchor_y{}, anchor_z{};
   int anchor_count = 0;
   std::array<double, 3> anchor_lo{}, anchor_hi{};  ///< the anchors' bounding box
+  /// Stage 2 of AABBs: the separating axes of the box and the frustum other than the planes, as
+  /// combinations of the planes, prepared once per frame (an AABB's axes are the coordinate axes,
+  /// so they do not depend on the box): two planes whose normals differ in sign on an axis, with
+  /// the multipliers that cancel it (an edge of the frustum against a box axis); three planes with
+  /// those that cancel two axes (a corner of the frustum against a box face). Combination q is the
+  /// plane (cx, cy, cz, d) = sum lambda (n', d'), and proves what it proves about a box of
+  /// magnitude X beyond k1 X + k0.
+  struct Combination {
+    double cx = 0, cy = 0, cz = 0, d = 0;
+    double k1 = 0, k0 = 0;
+  };
+  static constexpr int kCombinations = 128;  ///< at least 15 pairs x 3 axes + 20 triples x 3
+  std::array<Combination, kCombinations> comb{};
+  int comb_count = 0;
+  /// comb_in[J]: the combinations whose planes all lie in the set J (bit q % 64 of word q / 64).
+  std::array<std::array<std::uint64_t, 2>, 64> comb_in{};
+  /// Whether the combinations are every vertex of the dual programme with at most three planes
+  /// (has_interior, and no multiplier of uncertain sign): then an AABB that every combination and
+  /// every plane of J proves on its inner side meets the frustum.
+  bool comb_complete = false;
   /// The float certified frustum (src/certified/certified.cpp) for the SIMD batch's first stage.
   CertifiedFrustum certified;
 };

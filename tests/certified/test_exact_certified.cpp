@@ -151,6 +151,45 @@ TEST(ExactCertified, SeparatedOnlyByACombinationOfPlanes) {
   EXPECT_EQ(sphere(f, Sphere{{3.05f, 3.05f, -2.95f}, 0.09f}).verdict, V::intersecting);
 }
 
+// An AABB's separating axes other than the planes are the same for every box: the frame lists
+// them as combinations of two planes (an edge against a box axis) and three (a corner against a
+// box face), and when the list is complete a box that every one of them leaves on its inner side
+// meets the frustum, with no witness point to find.
+TEST(ExactCertified, TheFramesCombinationsDecideEdgesAndCorners) {
+  const ExactCertifiedFrustum f = prepare_exact_certified(integer_frustum());
+  EXPECT_TRUE(f.comb_complete);
+  ASSERT_GT(f.comb_count, 0);
+  ASSERT_LE(f.comb_count, ExactCertifiedFrustum::kCombinations);
+  for (int j = 0; j < f.count; ++j) {  // a single plane is no combination
+    EXPECT_EQ(f.comb_in[std::size_t(1) << j][0], 0u);
+    EXPECT_EQ(f.comb_in[std::size_t(1) << j][1], 0u);
+  }
+  // Left x >= z and far z >= -3 differ in sign along z; their combination is x >= -3.
+  int left = -1, far = -1;
+  for (int j = 0; j < f.count; ++j) {
+    if (f.plane[std::size_t(j)].index == kLeft) left = j;
+    if (f.plane[std::size_t(j)].index == kFar) far = j;
+  }
+  const std::uint64_t pair = f.comb_in[(1u << left) | (1u << far)][0];
+  ASSERT_NE(pair, 0u);
+  const auto& c = f.comb[std::size_t(__builtin_ctzll(pair))];
+  EXPECT_GT(c.cx, 0.0);
+  EXPECT_EQ(c.cy, 0.0);
+  EXPECT_EQ(c.cz, 0.0);
+  EXPECT_EQ(c.d, 3.0 * c.cx);
+  // A box about the edge point (-3, 0, -3): both planes cut it, their p-vertices differ.
+  ExactStage stage{};
+  EXPECT_EQ(exact_certified_aabb(f, Aabb{{-3.1f, -0.1f, -3.1f}, {-2.9f, 0.1f, -2.9f}}, &stage), V::intersecting);
+  EXPECT_EQ(stage, ExactStage::axes);
+  EXPECT_EQ(exact_certified_aabb(f, Aabb{{-3.3f, -0.1f, -3.3f}, {-3.05f, 0.1f, -2.95f}}, &stage), V::outside);
+  EXPECT_EQ(stage, ExactStage::axes);
+  // A frame with no interior point (near beyond far) lists combinations but is not complete.
+  CaseFrustum inverted = integer_frustum();
+  std::swap(inverted.planes[kNear].d, inverted.planes[kFar].d);
+  inverted.planes[kNear].d = -4.0f;
+  EXPECT_FALSE(prepare_exact_certified(inverted).comb_complete);
+}
+
 // The ends of the float range: coordinates near FLT_MAX (products overflow float, not double),
 // and distances below the smallest normal float.
 TEST(ExactCertified, HugeCoordinates) {
@@ -365,6 +404,20 @@ TEST(ExactCertifiedMargins, SphereFarkas) {
   EXPECT_GE(L(ExactMargins::kFarkasCentre) * u * (1 - gamma(3)), centre);
   // The combined normal: per component gamma_3 + u of sum lambda |n'|, in the 1-norm.
   EXPECT_GE(L(ExactMargins::kFarkasNormal) * u * (1 - gamma(3)), gamma(3) + u);
+}
+
+TEST(ExactCertifiedMargins, Combinations) {
+  // A multiplier of three planes: the difference of two products of rounded coefficients (each
+  // within u, so a product within 2u + u^2), evaluated with gamma_2.
+  EXPECT_GE(L(ExactMargins::kMultiplier) * u, 2 * u + u * u + gamma(2));
+  // The combination at a box: the coefficients (u), C and D as three-term sums (gamma_3), c and h
+  // rounded (2u, X part only), the seven-term evaluation (gamma_7 on terms grown by gamma_3); all
+  // on magnitudes grown by (1 + u). The multipliers' own error is charged at 2 dl >= (1 + u) dl.
+  const L on_x = (u + gamma(3) + 2 * u + gamma(7) * (1 + gamma(3))) * (1 + u);
+  const L on_d = (u + gamma(3) + gamma(7) * (1 + gamma(3))) * (1 + u);
+  EXPECT_LE(on_x, 13.02L * u);
+  EXPECT_LE(on_d, 11.02L * u);
+  EXPECT_GE(L(ExactMargins::kCombination) * u, std::max(on_x, on_d));
 }
 
 TEST(ExactCertifiedMargins, TheSlackCoversTheBoundsOwnRounding) {
