@@ -298,7 +298,7 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
                     cls == ErrorClass::correct ? "" : std::string(to_string(cls)).c_str());
       }
       std::cout << "where the volume lies, plane by plane (normalised):\n" << describe_planes(e.c);
-      std::cout << "witness: " << t.witness.dump() << "\n";
+      std::cout << "witness: " << oracle::to_json(t.witness).dump() << "\n";
       return 0;
     }
     std::cerr << "cullproof corpus show: no case with id '" << id << "' under " << dir << "\n";

@@ -58,7 +58,7 @@ CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& 
   x["distance_kind"] = oracle::to_string(r.distance_kind);
   x["scale"] = scale;
   x["scene_size"] = g.scene_size;
-  x["witness"] = r.witness;
+  x["witness"] = oracle::to_json(r.witness);
   x["seed"] = seed;
   x["index"] = index;
   x["reproduce"] = reproduce_command(seed, d, index, m);

@@ -67,13 +67,13 @@ Decision decide(const CaseFrustum& f, const Volume& v, const Options& o, ExactCa
 }
 
 // Step 2: the certificate. The filter's were proved by its interval bounds; the exact route's
-// are checked here in Gmpq, in x-space. With witness_json, every certificate (filtered or not)
-// is re-checked exactly while it is written out.
+// are checked here in Gmpq, in x-space. With Options::witness, every certificate (filtered or
+// not) is re-checked exactly while it is written out.
 void check(const Volume& v, const Options& o, const Decision& dec, ExactCase& ec, Result& r) {
-  if (r.filtered && !o.witness_json) return;
+  if (r.filtered && !o.witness) return;
   if (r.truth == Visibility::outside) {
     const auto P = check_separation(ec.qc, *dec.lambda);
-    if (o.witness_json) r.witness = separation_json(*dec.lambda, P);
+    if (o.witness) r.witness = separation_witness(*dec.lambda, P);
     return;
   }
   std::array<Q, 3> x;
@@ -83,12 +83,12 @@ void check(const Volume& v, const Options& o, const Decision& dec, ExactCase& ec
   } else {
     x = check_box_point(ec.qc, *dec.t_or_point);
   }
-  if (o.witness_json) r.witness = point_json(x);
+  if (o.witness) r.witness = point_witness(x);
   if (r.truth == Visibility::intersecting) {
     const auto [plane, corner] = check_not_inside(ec.qc);
-    if (o.witness_json) {
-      r.witness["violated_plane"] = plane;
-      if (corner) r.witness["outside_corner"] = exact_vec(*corner);
+    if (o.witness) {
+      r.witness.violated_plane = plane;
+      if (corner) r.witness.outside_corner = rationals(*corner);
     }
   }
 }
@@ -146,7 +146,7 @@ Result classify(const CaseFrustum& f, const Volume& v) { return classify(f, v, O
 Visibility truth(const CaseFrustum& f, const Volume& v) {
   Options o;
   o.distance = false;
-  o.witness_json = false;
+  o.witness = false;
   return classify(f, v, o).truth;
 }
 
@@ -167,7 +167,45 @@ nlohmann::json to_json(const Result& r) {
   else j["distance"] = nullptr;
   j["distance_kind"] = to_string(r.distance_kind);
   j["filtered"] = r.filtered;
-  j["witness"] = r.witness.is_null() ? nlohmann::json::object() : r.witness;
+  j["witness"] = to_json(r.witness);
+  return j;
+}
+
+std::string_view to_string(Witness::Kind k) noexcept {
+  switch (k) {
+    case Witness::Kind::point: return "point";
+    case Witness::Kind::separating_plane: return "separating_plane";
+    case Witness::Kind::none: break;
+  }
+  return "none";
+}
+
+nlohmann::json to_json(const Witness& w) {
+  auto exact = [](const auto& values) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const Rational& q : values) a.push_back(q.exact);
+    return a;
+  };
+  auto approx = [](const auto& values) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const Rational& q : values) a.push_back(q.approx);
+    return a;
+  };
+  nlohmann::json j = nlohmann::json::object();
+  if (w.kind == Witness::Kind::none) return j;
+  j["kind"] = std::string(to_string(w.kind));
+  if (w.kind == Witness::Kind::separating_plane) {
+    j["plane"] = exact(w.plane);
+    j["plane_approx"] = approx(w.plane);
+    j["multipliers"] = exact(w.multipliers);
+    return j;
+  }
+  j["point"] = exact(w.point);
+  j["point_approx"] = approx(w.point);
+  if (w.violated_plane >= 0) j["violated_plane"] = w.violated_plane;
+  if (w.outside_corner) j["outside_corner"] = exact(*w.outside_corner);
+  if (w.penetration) j["penetration"] = *w.penetration;
+  if (w.protrusion) j["protrusion"] = *w.protrusion;
   return j;
 }
 

@@ -93,17 +93,19 @@ std::pair<int, std::optional<std::array<Q, 3>>> check_not_inside(QCase& qc) {
   self_check_failed("an 'intersecting' volume lies inside every plane");
 }
 
-nlohmann::json separation_json(const std::array<Q, 6>& lambda, const detail::Coeffs<Q>& P) {
-  nlohmann::json mult = nlohmann::json::array();
-  for (const Q& l : lambda) mult.push_back(text(l));
-  return {{"kind", "separating_plane"},
-          {"plane", {text(P[0]), text(P[1]), text(P[2]), text(P[3])}},
-          {"plane_approx", {approx(P[0]), approx(P[1]), approx(P[2]), approx(P[3])}},
-          {"multipliers", mult}};
+Witness separation_witness(const std::array<Q, 6>& lambda, const detail::Coeffs<Q>& P) {
+  Witness w;
+  w.kind = Witness::Kind::separating_plane;
+  w.plane = rationals(std::array<Q, 4>{P[0], P[1], P[2], P[3]});
+  w.multipliers = rationals(lambda);
+  return w;
 }
 
-nlohmann::json point_json(const std::array<Q, 3>& x) {
-  return {{"kind", "point"}, {"point", exact_vec(x)}, {"point_approx", approx_vec(x)}};
+Witness point_witness(const std::array<Q, 3>& x) {
+  Witness w;
+  w.kind = Witness::Kind::point;
+  w.point = rationals(x);
+  return w;
 }
 
 }  // namespace cullproof::oracle::internal

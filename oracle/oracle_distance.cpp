@@ -56,9 +56,9 @@ void set_margin_distance(Result& r, const Margins& m) {
   } else {
     r.distance = std::min(m.penetration, m.protrusion);
     r.distance_kind = DistanceKind::margin;
-    if (r.witness.is_object()) {
-      r.witness["penetration"] = m.penetration;
-      r.witness["protrusion"] = m.protrusion;
+    if (r.witness.kind != Witness::Kind::none) {
+      r.witness.penetration = m.penetration;
+      r.witness.protrusion = m.protrusion;
     }
   }
 }

@@ -61,11 +61,12 @@ inline std::string text(const Q& q) {
 inline double approx(const Q& q) { return mpq_get_d(q.mpq()); }
 inline double approx(const ET& x) { return CGAL::to_double(x); }
 
-inline nlohmann::json exact_vec(const std::array<Q, 3>& v) {
-  return nlohmann::json::array({text(v[0]), text(v[1]), text(v[2])});
-}
-inline nlohmann::json approx_vec(const std::array<Q, 3>& v) {
-  return nlohmann::json::array({approx(v[0]), approx(v[1]), approx(v[2])});
+inline Rational rational(const Q& q) { return Rational{text(q), approx(q)}; }
+template <std::size_t N>
+std::array<Rational, N> rationals(const std::array<Q, N>& v) {
+  std::array<Rational, N> out;
+  for (std::size_t i = 0; i < N; ++i) out[i] = rational(v[i]);
+  return out;
 }
 
 [[noreturn]] inline void self_check_failed(const std::string& what) {
@@ -176,8 +177,8 @@ std::array<Q, 3> check_box_point(QCase& qc, const std::array<Q, 3>& t);
 void check_sphere_point(QCase& qc, const Sphere& s, const std::array<Q, 3>& x);
 detail::Coeffs<Q> check_separation(QCase& qc, const std::array<Q, 6>& lambda);
 std::pair<int, std::optional<std::array<Q, 3>>> check_not_inside(QCase& qc);
-nlohmann::json separation_json(const std::array<Q, 6>& lambda, const detail::Coeffs<Q>& P);
-nlohmann::json point_json(const std::array<Q, 3>& x);
+Witness separation_witness(const std::array<Q, 6>& lambda, const detail::Coeffs<Q>& P);
+Witness point_witness(const std::array<Q, 3>& x);
 
 // ---- exact distances (oracle_distance.cpp) -----------------------------------------------------
 

@@ -105,7 +105,7 @@ void BM_OracleExactRoute(benchmark::State& state) {
   oracle::Options o;
   o.filter = false;
   o.distance = false;
-  o.witness_json = false;
+  o.witness = false;
   run(state, [&](const BenchCase& c) { return oracle::classify(c.frustum, c.volume, o).truth; });
 }
 void BM_OracleFull(benchmark::State& state) {

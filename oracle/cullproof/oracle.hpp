@@ -27,8 +27,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 namespace cullproof::oracle {
@@ -60,29 +63,49 @@ class OracleError : public std::logic_error {
 /// square root): relative error below 4 ulp of double. Degenerate planes (n == 0) take no part.
 enum class DistanceKind : std::uint8_t { euclidean, margin, clearance, none };
 
+/// An exact rational as the oracle writes it ("p/q", or "p" when an integer; GMP's canonical
+/// form, lowest terms) with its nearest double.
+struct Rational {
+  std::string exact;
+  double approx = 0.0;
+};
+
+/// The checked certificate of a verdict: what the oracle proved, in exact numbers.
+struct Witness {
+  enum class Kind : std::uint8_t {
+    none,              ///< not requested (Options::witness false); the certificate was still checked
+    point,             ///< inside or intersecting: an exact point of B ∩ F
+    separating_plane,  ///< outside: a plane that holds F with B strictly behind it
+  };
+  Kind kind = Kind::none;
+  /// Kind point: the point. "inside" itself is proved by evaluating every corner (or the ball's
+  /// offset) exactly; the point shows B ∩ F is not empty.
+  std::array<Rational, 3> point{};
+  /// Intersecting: the index of a plane some point of B violates, and for boxes that corner.
+  int violated_plane = -1;
+  std::optional<std::array<Rational, 3>> outside_corner;
+  /// Kind separating_plane: plane = Σ λ_j plane_j, λ ≥ 0, one multiplier per frustum plane.
+  std::array<Rational, 4> plane{};
+  std::array<Rational, 6> multipliers{};
+  /// Intersecting, when the distance was measured: penetration and protrusion (DistanceKind).
+  std::optional<double> penetration, protrusion;
+};
+
 /// The oracle's answer for one case.
 struct Result {
   Visibility truth = Visibility::outside;  ///< exact truth (docs/semantics.md "The truth")
   double distance = 0.0;                   ///< see DistanceKind; NaN when not requested
   DistanceKind distance_kind = DistanceKind::none;  ///< what `distance` measures
-  /// The checked certificate. {"kind":"point","point":["p/q",..],"point_approx":[..]} for
-  /// inside / intersecting (an exact point of B ∩ F); intersecting adds "violated_plane" (index
-  /// of a plane some point of B violates) and, for boxes, "outside_corner" (that corner, exact);
-  /// "inside" itself is proved by evaluating every corner (or the ball's offset) exactly;
-  /// {"kind":"separating_plane",
-  /// "plane":["p/q"x4],"plane_approx":[..],"multipliers":[6 rationals, one per frustum plane]}
-  /// for outside: plane = Σ λ_j plane_j with λ ≥ 0 (so F lies in it) and B strictly behind it.
-  /// Empty when Options::witness_json is false (the certificate is still checked).
-  nlohmann::json witness;
+  Witness witness;                          ///< kind none when Options::witness is false
   bool filtered = false;  ///< decided by the interval filter (no exact solver call)
 };
 
 /// Per-call switches. The truth and its certificate check are never skipped. Member order is
-/// stable (callers use aggregate initialisation: Options{filter, distance, witness_json}).
+/// stable (callers use aggregate initialisation: Options{filter, distance, witness}).
 struct Options {
-  bool filter = true;        ///< try the interval filter before the exact route
-  bool distance = true;      ///< compute Result::distance (an exact QP for outside volumes)
-  bool witness_json = true;  ///< write the certificate into Result::witness as exact rationals
+  bool filter = true;    ///< try the interval filter before the exact route
+  bool distance = true;  ///< compute Result::distance (an exact QP for outside volumes)
+  bool witness = true;   ///< fill Result::witness (its exact numbers are formed as text)
 };
 
 /// Exact classification of v against f with checked certificate and distance. Thread-safe.
@@ -90,12 +113,19 @@ struct Options {
 Result classify(const CaseFrustum& f, const Volume& v);
 /// As classify(f, v), with per-call options (e.g. truth only, or exact route only). Thread-safe.
 Result classify(const CaseFrustum& f, const Volume& v, const Options& options);
-/// Truth only: classify with the filter, no distance, no witness JSON. Thread-safe.
+/// Truth only: classify with the filter, no distance, no witness. Thread-safe.
 Visibility truth(const CaseFrustum& f, const Volume& v);
 
 /// {"truth": "...", "distance": x (null when infinite or not computed), "distance_kind": "...",
-/// "filtered": bool, "witness": {...}}.
+/// "filtered": bool, "witness": to_json(witness)}.
 nlohmann::json to_json(const Result& r);
+/// {} for kind none; {"kind": "point", "point": ["p/q" x3], "point_approx": [x3]} plus
+/// "violated_plane", "outside_corner" (exact, boxes), "penetration", "protrusion" where known;
+/// {"kind": "separating_plane", "plane": ["p/q" x4], "plane_approx": [x4], "multipliers":
+/// ["p/q" x6]}. The corpus files carry this form.
+nlohmann::json to_json(const Witness& w);
+/// "none", "point", "separating_plane".
+std::string_view to_string(Witness::Kind k) noexcept;
 /// "euclidean", "margin", "clearance" or "none".
 std::string_view to_string(DistanceKind k) noexcept;
 

@@ -43,7 +43,7 @@ inline Result expect_truth(const CaseFrustum& f, const Volume& v, Visibility exp
   EXPECT_EQ(e.truth, expected) << "exact route";
   EXPECT_FALSE(e.filtered);
   EXPECT_EQ(classify_independent(f, v), expected) << "independent method";
-  EXPECT_EQ(r.witness.at("kind"), expected == Visibility::outside ? "separating_plane" : "point");
+  EXPECT_EQ(r.witness.kind, expected == Visibility::outside ? Witness::Kind::separating_plane : Witness::Kind::point);
   // Both routes compute the same exact distance (same formulas after the decision).
   if (std::isfinite(r.distance) || std::isfinite(e.distance)) {
     EXPECT_DOUBLE_EQ(r.distance, e.distance);

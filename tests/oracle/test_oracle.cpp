@@ -82,7 +82,8 @@ TEST(OracleContainment, BoxContainingTheFrustumIsIntersecting) {
   const Result r = expect_truth(cube(), box({-2, -2, -2}, {2, 2, 2}), Visibility::intersecting);
   // Protrusion is 1 (x = 2 is 1 beyond x <= 1), penetration 3 (max over B of 1 + x).
   EXPECT_EQ(r.distance, 1.0);
-  EXPECT_EQ(r.witness.at("penetration"), 3.0);
+  EXPECT_EQ(r.witness.penetration, 3.0);
+  EXPECT_EQ(r.witness.protrusion, 1.0);
 }
 
 TEST(OracleContainment, FrustumContainingTheBoxIsInside) {
@@ -278,7 +279,7 @@ TEST(OracleEmpty, EmptyHalfSpacePutsEverythingOutside) {
                           Volume{Sphere{{0, 0, 0}, 5}}}) {
     const Result r = expect_truth(cf, v, Visibility::outside);
     EXPECT_TRUE(std::isinf(r.distance));
-    EXPECT_EQ(r.witness.at("multipliers").at(kFar), "1");
+    EXPECT_EQ(r.witness.multipliers[kFar].exact, "1");
     EXPECT_TRUE(to_json(r).at("distance").is_null());
   }
   // n == 0, d > 0 contains all space: the same box is inside.
@@ -300,27 +301,42 @@ TEST(OracleEmpty, ContradictoryPlanesMakeAnEmptyFrustum) {
 
 TEST(OracleWitness, PointWitnessIsExactAndInBoth) {
   const Result r = classify(cube(), box({kOneDown, -0.5f, -0.5f}, {2, 0.5f, 0.5f}));
-  ASSERT_EQ(r.witness.at("kind"), "point");
-  const auto& p = r.witness.at("point");
-  ASSERT_EQ(p.size(), 3u);
-  for (const auto& x : p) EXPECT_TRUE(x.is_string());
+  ASSERT_EQ(r.witness.kind, Witness::Kind::point);
+  for (const Rational& x : r.witness.point) EXPECT_FALSE(x.exact.empty());
   // x is in [1 - 2^-24, 1].
-  const double x = r.witness.at("point_approx").at(0).get<double>();
+  const double x = r.witness.point[0].approx;
   EXPECT_GE(x, double(kOneDown));
   EXPECT_LE(x, 1.0);
   // Not inside: the corner (2, *, *) violates the right plane x <= 1.
-  EXPECT_EQ(r.witness.at("violated_plane"), kRight);
-  EXPECT_EQ(r.witness.at("outside_corner").at(0), "2");
+  EXPECT_EQ(r.witness.violated_plane, kRight);
+  ASSERT_TRUE(r.witness.outside_corner.has_value());
+  EXPECT_EQ((*r.witness.outside_corner)[0].exact, "2");
+  // The corpus files' form.
+  const nlohmann::json j = to_json(r.witness);
+  EXPECT_EQ(j.at("kind"), "point");
+  EXPECT_EQ(j.at("point").size(), 3u);
+  EXPECT_EQ(j.at("point_approx").at(0).get<double>(), x);
+  EXPECT_EQ(j.at("violated_plane"), kRight);
+  EXPECT_EQ(j.at("outside_corner").at(0), "2");
+  EXPECT_TRUE(j.contains("penetration") && j.contains("protrusion"));
 }
 
 TEST(OracleWitness, SeparatingPlaneWitness) {
   const Result r = classify(cube(), box({kOneUp, -0.5f, -0.5f}, {2, 0.5f, 0.5f}));
-  ASSERT_EQ(r.witness.at("kind"), "separating_plane");
-  EXPECT_EQ(r.witness.at("multipliers").size(), 6u);
+  ASSERT_EQ(r.witness.kind, Witness::Kind::separating_plane);
+  // Only the right plane x <= 1 separates: its multiplier is positive, the others zero.
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(r.witness.multipliers[std::size_t(k)].exact == "0", k != kRight) << k;
   const nlohmann::json j = to_json(r);
   EXPECT_EQ(j.at("truth"), "outside");
   EXPECT_EQ(j.at("distance").get<double>(), std::ldexp(1.0, -23));
-  EXPECT_TRUE(j.contains("witness"));
+  EXPECT_EQ(j.at("witness").at("kind"), "separating_plane");
+  EXPECT_EQ(j.at("witness").at("multipliers").size(), 6u);
+  EXPECT_EQ(j.at("witness").at("plane_approx").size(), 4u);
+  // Without a witness the verdict is the same and the witness empty.
+  const Result bare = classify(cube(), box({kOneUp, -0.5f, -0.5f}, {2, 0.5f, 0.5f}), Options{true, false, false});
+  EXPECT_EQ(bare.truth, Visibility::outside);
+  EXPECT_EQ(bare.witness.kind, Witness::Kind::none);
+  EXPECT_TRUE(to_json(bare.witness).empty());
 }
 
 TEST(OracleApi, InvalidInputIsRejected) {

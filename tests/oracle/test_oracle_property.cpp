@@ -38,7 +38,7 @@ void check_case(const CaseFrustum& frustum, const Volume& volume) {
   Options exact_only;
   exact_only.filter = false;
   exact_only.distance = false;
-  exact_only.witness_json = false;
+  exact_only.witness = false;
   RC_ASSERT(classify(frustum, volume, exact_only).truth == r.truth);
   // Distances: outside volumes are at a positive distance (closed, disjoint, B compact).
   if (r.truth == Visibility::outside) {
@@ -46,7 +46,7 @@ void check_case(const CaseFrustum& frustum, const Volume& volume) {
     RC_ASSERT(r.distance > 0.0);
   } else {
     RC_ASSERT(r.distance >= 0.0);
-    RC_ASSERT(r.witness.at("kind") == "point");
+    RC_ASSERT(r.witness.kind == Witness::Kind::point);
   }
 }
 
