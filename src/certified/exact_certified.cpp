@@ -1110,10 +1110,14 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
     if (p_in == J && f.same_p_vertex[J]) return Visibility::intersecting;
     set_stage(stage, ExactStage::axes);
     // An anchor of the frame (a point certified inside every plane) that the box holds, compared
-    // exactly.
-    if (holds_anchor(f, b)) return Visibility::intersecting;
+    // exactly: first when three or more planes are left (a large box; many combinations), after
+    // the combinations when two are (one to three combinations, and rarely an anchor held).
+    const unsigned rest = J & (J - 1);
+    const bool two = (rest & (rest - 1)) == 0;
+    if (!two && holds_anchor(f, b)) return Visibility::intersecting;
     const Tri meets = aabb_combinations(f, b, m, J, p_in == J);
     if (meets != Tri::unknown) return meets == Tri::yes ? Visibility::intersecting : Visibility::outside;
+    if (two && holds_anchor(f, b)) return Visibility::intersecting;
   }
   finish_rows(f, r, m, J);
   return box_rest(f, BoxIn{&b, nullptr}, r, crossing, stage);
