@@ -1036,56 +1036,66 @@ bool holds_anchor(const ExactCertifiedFrustum& f, const Aabb& b) noexcept {
   return false;
 }
 
-// Stage 1 of an AABB in centre-extent form: per plane s = n'.c and rad = sum |n'_i h_i|, so that
-// the p-vertex value is s + d + rad and the n-vertex value s + d - rad, with no per-axis choice
-// (see "Stage 1" in the file comment). Bit j of J: plane j not proved to hold the box; of
-// crossing: proved to cut it; of p_in: its p-vertex proved inside it. Fills the rows of every
-// plane. Returns false when a plane proves the box outside.
-template <bool kSix>
-bool aabb_planes(const ExactCertifiedFrustum& f, const Aabb& b, BoxRows& r, double& m, unsigned& J, unsigned& crossing,
-                 unsigned& p_in) noexcept {
+// An AABB in centre-extent form: c = fl((lo + hi) / 2), h = fl((hi - lo) / 2), one rounding each.
+struct CentreExtent {
+  double c0, c1, c2, h0, h1, h2;
+};
+inline CentreExtent centre_extent(const Aabb& b) noexcept {
   const double lo0 = b.min.x, lo1 = b.min.y, lo2 = b.min.z, hi0 = b.max.x, hi1 = b.max.y, hi2 = b.max.z;
-  const double c0 = 0.5 * (lo0 + hi0), c1 = 0.5 * (lo1 + hi1), c2 = 0.5 * (lo2 + hi2);
-  const double h0 = 0.5 * (hi0 - lo0), h1 = 0.5 * (hi1 - lo1), h2 = 0.5 * (hi2 - lo2);
-  m = std::max(std::max(std::max(hi0, hi1), hi2), -std::min(std::min(lo0, lo1), lo2));
+  return {0.5 * (lo0 + hi0), 0.5 * (lo1 + hi1), 0.5 * (lo2 + hi2), 0.5 * (hi0 - lo0), 0.5 * (hi1 - lo1), 0.5 * (hi2 - lo2)};
+}
+
+// Stage 1 of an AABB: per plane s = n'.c and rad = sum |n'_i h_i|, so that the p-vertex value is
+// s + d + rad and the n-vertex value s + d - rad, with no per-axis choice (see "Stage 1" in the
+// file comment). Bit j of J: plane j not proved to hold the box; of crossing: proved to cut it;
+// of p_in: its p-vertex proved inside it. Returns false when a plane proves the box outside.
+template <bool kSix>
+bool aabb_planes(const ExactCertifiedFrustum& f, const Aabb& b, const CentreExtent& e, double& m, unsigned& J,
+                 unsigned& crossing, unsigned& p_in) noexcept {
+  m = std::max(std::max(std::max(double(b.max.x), double(b.max.y)), double(b.max.z)),
+               -std::min(std::min(double(b.min.x), double(b.min.y)), double(b.min.z)));
   const double T = f.t_box * m, neg_t = -T;
   unsigned jm = 0, cm = 0, pm = 0;
   const int count = kSix ? 6 : f.count;
 #pragma GCC unroll 6
   for (int j = 0; j < count; ++j) {
     const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
-    const double s = (p.nx * c0 + p.ny * c1) + p.nz * c2;
-    const double a1 = p.nx * h0, a2 = p.ny * h1, a3 = p.nz * h2;
-    const double rad = (std::abs(a1) + std::abs(a2)) + std::abs(a3);
+    const double s = (p.nx * e.c0 + p.ny * e.c1) + p.nz * e.c2;
+    const double rad = (std::abs(p.nx * e.h0) + std::abs(p.ny * e.h1)) + std::abs(p.nz * e.h2);
     const double so = s + p.d_out_box, si = s + p.d_in_box;
     if (so + rad < neg_t) return false;
     jm |= unsigned(!(si - rad >= T)) << j;
     cm |= unsigned(so - rad < neg_t) << j;
     pm |= unsigned(si + rad >= T) << j;
-    double* a = r.a[j];
-    a[0] = s + p.d, a[1] = a1, a[2] = a2, a[3] = a3;
   }
-  r.m = count;
   J = jm;
   crossing = cm;
   p_in = pm & jm;
   return true;
 }
 
+// The rows of every plane for an AABB (stage 2, "Stage 2 rows" in the file comment).
+void aabb_rows(const ExactCertifiedFrustum& f, const CentreExtent& e, BoxRows& r) noexcept {
+  for (int j = 0; j < f.count; ++j) {
+    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+    double* a = r.a[j];
+    a[0] = ((p.nx * e.c0 + p.ny * e.c1) + p.nz * e.c2) + p.d;
+    a[1] = p.nx * e.h0, a[2] = p.ny * e.h1, a[3] = p.nz * e.h2;
+  }
+  r.m = f.count;
+}
+
 // Stage 2 of an AABB on the frame's combinations within J (see "AABBs, the frame's
 // combinations"): no when one proves the box outside; yes when the list is complete, every plane
 // of J has its p-vertex proved inside (`singles`) and every combination proves the box on its
 // inner side; unknown otherwise. m: the box's magnitude (stage 1's).
-Tri aabb_combinations(const ExactCertifiedFrustum& f, const Aabb& b, double m, unsigned J, bool singles) noexcept {
-  const double lo0 = b.min.x, lo1 = b.min.y, lo2 = b.min.z, hi0 = b.max.x, hi1 = b.max.y, hi2 = b.max.z;
-  const double c0 = 0.5 * (lo0 + hi0), c1 = 0.5 * (lo1 + hi1), c2 = 0.5 * (lo2 + hi2);
-  const double h0 = 0.5 * (hi0 - lo0), h1 = 0.5 * (hi1 - lo1), h2 = 0.5 * (hi2 - lo2);
+Tri aabb_combinations(const ExactCertifiedFrustum& f, const CentreExtent& e, double m, unsigned J, bool singles) noexcept {
   bool positive = singles && f.comb_complete;
   for (std::size_t w = 0; w < 2; ++w)
     for (std::uint64_t bits = f.comb_in[J][w]; bits != 0; bits &= bits - 1) {
       const ExactCertifiedFrustum::Combination& q = f.comb[64 * w + std::size_t(__builtin_ctzll(bits))];
-      const double v = ((q.cx * c0 + q.cy * c1) + (q.cz * c2 + q.d)) +
-                       ((std::abs(q.cx) * h0 + std::abs(q.cy) * h1) + std::abs(q.cz) * h2);
+      const double v = ((q.cx * e.c0 + q.cy * e.c1) + (q.cz * e.c2 + q.d)) +
+                       ((std::abs(q.cx) * e.h0 + std::abs(q.cy) * e.h1) + std::abs(q.cz) * e.h2);
       const double t = up(q.k1 * m + q.k0);
       if (v < -t) return Tri::no;
       positive = positive && v > t;
@@ -1099,9 +1109,9 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
   set_stage(stage, ExactStage::planes);
   if (f.empty) return Visibility::outside;
   unsigned J, crossing, p_in;
-  BoxRows r;
   double m;
-  if (!(f.count == 6 ? aabb_planes<true>(f, b, r, m, J, crossing, p_in) : aabb_planes<false>(f, b, r, m, J, crossing, p_in)))
+  const CentreExtent e = centre_extent(b);
+  if (!(f.count == 6 ? aabb_planes<true>(f, b, e, m, J, crossing, p_in) : aabb_planes<false>(f, b, e, m, J, crossing, p_in)))
     return Visibility::outside;
   if (J == 0) return Visibility::inside;
   if (crossing) {
@@ -1115,10 +1125,12 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
     const unsigned rest = J & (J - 1);
     const bool two = (rest & (rest - 1)) == 0;
     if (!two && holds_anchor(f, b)) return Visibility::intersecting;
-    const Tri meets = aabb_combinations(f, b, m, J, p_in == J);
+    const Tri meets = aabb_combinations(f, e, m, J, p_in == J);
     if (meets != Tri::unknown) return meets == Tri::yes ? Visibility::intersecting : Visibility::outside;
     if (two && holds_anchor(f, b)) return Visibility::intersecting;
   }
+  BoxRows r;
+  aabb_rows(f, e, r);
   finish_rows(f, r, m, J);
   return box_rest(f, BoxIn{&b, nullptr}, r, crossing, stage);
 }
