@@ -182,7 +182,9 @@ std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept {
   const double z = 1.959963984540054, p = double(k) / double(n), nn = double(n);
   const double denom = 1 + z * z / nn, centre = (p + z * z / (2 * nn)) / denom;
   const double half = z * std::sqrt(p * (1 - p) / nn + z * z / (4 * nn * nn)) / denom;
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+  // With no success (no failure) the bound is exactly 0 (1); centre - half would leave a rounding
+  // residue such as 1e-19 there.
+  return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
 }
 
 }  // namespace cullproof

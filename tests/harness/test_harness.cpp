@@ -58,6 +58,12 @@ TEST(Wilson, KnownIntervals) {
   EXPECT_NEAR(lo, 0.4038, 1e-4);
   EXPECT_NEAR(hi, 0.5962, 1e-4);
   EXPECT_EQ(wilson95(0, 0), std::make_pair(0.0, 0.0));
+  // No success in many trials: the lower bound is exactly 0, with no rounding residue (at these
+  // counts centre - half comes out near 1e-19 or below).
+  for (std::uint64_t n : {1000ull, 22787ull, 218799ull, 4282471ull, 123456789ull}) {
+    EXPECT_EQ(wilson95(0, n).first, 0.0) << n;
+    EXPECT_EQ(wilson95(n, n).second, 1.0) << n;
+  }
 }
 
 TEST(Generators, SameSeedSameCasesOtherSeedOtherCases) {
