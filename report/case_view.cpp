@@ -155,18 +155,19 @@ int fault_plane(const std::array<Plane4, 6>& planes, const Volume& v, ErrorClass
   return best;
 }
 
-json case_view_json(const CorpusEntry& e) {
-  const Case& c = e.c;
-  const json& x = c.extra;
-  const auto planes = truth_planes(c.frustum);
-  const json witness = x.value("witness", json::object());
-  const int fault = fault_plane(planes, c.volume, e.error, witness);
-  const auto ranges = plane_ranges(planes, c.volume);
+namespace {
 
-  // The scene: the frustum's bounded part (its corners that exist: three planes meeting inside the
-  // other three) and the volume, as far as it reaches within three times the frustum's extent
-  // (a rod a hundred times longer than the frustum would leave it a speck), and never less than
-  // the volume's point nearest the frustum's centre.
+// The scene: the frustum's bounded part (its corners that exist: three planes meeting inside the
+// other three) and the volume, as far as it reaches within three times the frustum's extent (a
+// rod a hundred times longer than the frustum would leave it a speck), and never less than the
+// volume's point nearest the frustum's centre. vlo, vhi: the volume's own bounds.
+struct Scene {
+  V3 center{}, vlo{}, vhi{};
+  double radius = 1.0;
+  int frustum_corners = 0;
+};
+
+Scene scene_of(const std::array<Plane4, 6>& planes, const Volume& volume) {
   const double inf = std::numeric_limits<double>::infinity();
   V3 lo = {inf, inf, inf}, hi = {-inf, -inf, -inf};
   auto grow = [&](const V3& p) {
@@ -175,7 +176,7 @@ json case_view_json(const CorpusEntry& e) {
       hi[i] = std::max(hi[i], p[i]);
     }
   };
-  int frustum_corners = 0;
+  Scene out;
   for (int k = 0; k < 8; ++k) {
     const auto p = meet(planes[k & 1 ? kRight : kLeft], planes[k & 2 ? kTop : kBottom], planes[k & 4 ? kFar : kNear]);
     if (!p) continue;
@@ -186,21 +187,23 @@ json case_view_json(const CorpusEntry& e) {
     }
     if (!inside) continue;
     grow(*p);
-    ++frustum_corners;
+    ++out.frustum_corners;
   }
-  std::vector<V3> vol = corners(c.volume);
-  if (const auto* s = std::get_if<Sphere>(&c.volume)) {
+  std::vector<V3> vol = corners(volume);
+  if (const auto* s = std::get_if<Sphere>(&volume)) {
     const V3 ctr = v3(s->center);
     const double r = s->radius;
     vol = {{ctr[0] - r, ctr[1] - r, ctr[2] - r}, {ctr[0] + r, ctr[1] + r, ctr[2] + r}};
   }
-  V3 vlo = {inf, inf, inf}, vhi = {-inf, -inf, -inf};
+  V3& vlo = out.vlo;
+  V3& vhi = out.vhi;
+  vlo = {inf, inf, inf}, vhi = {-inf, -inf, -inf};
   for (const V3& p : vol)
     for (std::size_t i = 0; i < 3; ++i) {
       vlo[i] = std::min(vlo[i], p[i]);
       vhi[i] = std::max(vhi[i], p[i]);
     }
-  if (frustum_corners > 0) {
+  if (out.frustum_corners > 0) {
     V3 fc, reach_lo, reach_hi, nearest;
     for (std::size_t i = 0; i < 3; ++i) {
       fc[i] = 0.5 * (lo[i] + hi[i]);
@@ -220,66 +223,76 @@ json case_view_json(const CorpusEntry& e) {
     grow(vlo);
     grow(vhi);
   }
-  V3 center;
   double radius = 0;
   for (std::size_t i = 0; i < 3; ++i) {
-    center[i] = 0.5 * (lo[i] + hi[i]);
+    out.center[i] = 0.5 * (lo[i] + hi[i]);
     radius += (hi[i] - lo[i]) * (hi[i] - lo[i]);
   }
   radius = 0.5 * std::sqrt(radius);
-  if (!(radius > 0)) radius = 1.0;
+  out.radius = radius > 0 ? radius : 1.0;
+  return out;
+}
 
-  // Where the error is. A false reject: the oracle's point of B ∩ F (a vertex of it, on the
-  // boundary). A false intersect: the volume's point reaching furthest over the fault plane. A
-  // false inside: the oracle's corner beyond the plane it crosses, else the volume's point furthest
-  // beyond the fault plane. An under-inside: the volume's point nearest to crossing the fault plane.
-  auto extreme = [&](const Plane4& q, bool furthest_inside) {
-    V3 best_p = center;
-    double best = furthest_inside ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
-    if (const auto* s = std::get_if<Sphere>(&c.volume)) {
-      const double len = norm3(q), sign = furthest_inside ? 1.0 : -1.0;
-      for (std::size_t i = 0; i < 3; ++i) best_p[i] = double(s->center[int(i)]) + sign * double(s->radius) * q[i] / len;
-      return best_p;
-    }
-    for (const V3& p : corners(c.volume)) {
-      const double value = dot3(q, p) + q[3];
-      if (furthest_inside ? value > best : value < best) {
-        best = value;
-        best_p = p;
-      }
-    }
+// The volume's point reaching furthest inside plane q (furthest_inside) or furthest beyond it;
+// `fallback` when the volume has no corners.
+V3 extreme_point(const Volume& volume, const Plane4& q, bool furthest_inside, const V3& fallback) {
+  V3 best_p = fallback;
+  double best = furthest_inside ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+  if (const auto* s = std::get_if<Sphere>(&volume)) {
+    const double len = norm3(q), sign = furthest_inside ? 1.0 : -1.0;
+    for (std::size_t i = 0; i < 3; ++i) best_p[i] = double(s->center[int(i)]) + sign * double(s->radius) * q[i] / len;
     return best_p;
-  };
-  // An exact rational coordinate ("p/q") to the nearest double or so: a drawing needs no more. A
-  // numerator or denominator past double's range leaves the point unread.
-  auto exact_point = [](const json& j, V3& out) {
-    if (!j.is_array() || j.size() != 3) return false;
-    V3 p{};
-    for (std::size_t i = 0; i < 3; ++i) {
-      if (!j[i].is_string()) return false;
-      const std::string t = j[i].get<std::string>();
-      const auto slash = t.find('/');
-      try {
-        p[i] = slash == std::string::npos ? std::stod(t) : std::stod(t.substr(0, slash)) / std::stod(t.substr(slash + 1));
-      } catch (const std::exception&) {
-        return false;
-      }
-      if (!std::isfinite(p[i])) return false;
+  }
+  for (const V3& p : corners(volume)) {
+    const double value = dot3(q, p) + q[3];
+    if (furthest_inside ? value > best : value < best) {
+      best = value;
+      best_p = p;
     }
-    out = p;
-    return true;
-  };
+  }
+  return best_p;
+}
+
+// An exact rational coordinate ("p/q") to the nearest double or so: a drawing needs no more. A
+// numerator or denominator past double's range leaves the point unread.
+bool exact_point(const json& j, V3& out) {
+  if (!j.is_array() || j.size() != 3) return false;
+  V3 p{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!j[i].is_string()) return false;
+    const std::string t = j[i].get<std::string>();
+    const auto slash = t.find('/');
+    try {
+      p[i] = slash == std::string::npos ? std::stod(t) : std::stod(t.substr(0, slash)) / std::stod(t.substr(slash + 1));
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (!std::isfinite(p[i])) return false;
+  }
+  out = p;
+  return true;
+}
+
+// Where the error is. A false reject: the oracle's point of B ∩ F (a vertex of it, on the
+// boundary). A false intersect: the volume's point reaching furthest over the fault plane. A
+// false inside: the oracle's corner beyond the plane it crosses, else the volume's point furthest
+// beyond the fault plane. An under-inside: the volume's point nearest to crossing the fault plane.
+V3 error_focus(const CorpusEntry& e, const std::array<Plane4, 6>& planes, const json& witness, int fault, const V3& center) {
   V3 focus = center;
   if (e.error == ErrorClass::false_reject && witness.value("kind", "") == "point" && witness.contains("point_approx")) {
     for (std::size_t i = 0; i < 3; ++i) focus[i] = witness["point_approx"][i].get<double>();
   } else if (e.error == ErrorClass::false_inside && witness.contains("outside_corner") && exact_point(witness["outside_corner"], focus)) {
     // the corner the oracle names
   } else if (fault >= 0) {
-    focus = extreme(planes[std::size_t(fault)], e.error == ErrorClass::false_intersect);
+    focus = extreme_point(e.c.volume, planes[std::size_t(fault)], e.error == ErrorClass::false_intersect, center);
   }
-  // How wide the error is: its distance (the smaller of the oracle's and the backward one), never
-  // below a few float spacings at the focus. A distance of 0 is a contact, with no gap to resolve
-  // at any magnification: then the view is sized to the volume, to show what touches what.
+  return focus;
+}
+
+// How wide the error is: its distance (the smaller of the oracle's and the backward one), never
+// below a few float spacings at the focus. A distance of 0 is a contact, with no gap to resolve at
+// any magnification: then the view is sized to the volume, to show what touches what.
+double error_width(const json& x, const V3& focus, const Scene& scene) {
   double width = std::numeric_limits<double>::infinity();
   bool contact = false;
   for (const char* key : {"distance", "backward_distance"})
@@ -288,9 +301,24 @@ json case_view_json(const CorpusEntry& e) {
       if (d > 0) width = std::min(width, d);
       if (d == 0) contact = true;
     }
+  const V3 &vlo = scene.vlo, &vhi = scene.vhi;
   if (contact) width = std::max({vhi[0] - vlo[0], vhi[1] - vlo[1], vhi[2] - vlo[2]}) / 3;
   const double spacing = float_spacing(std::max({std::abs(focus[0]), std::abs(focus[1]), std::abs(focus[2])}));
-  width = std::max(std::isfinite(width) ? width : 0.0, 8 * spacing);
+  return std::max(std::isfinite(width) ? width : 0.0, 8 * spacing);
+}
+
+}  // namespace
+
+json case_view_json(const CorpusEntry& e) {
+  const Case& c = e.c;
+  const json& x = c.extra;
+  const auto planes = truth_planes(c.frustum);
+  const json witness = x.value("witness", json::object());
+  const int fault = fault_plane(planes, c.volume, e.error, witness);
+  const auto ranges = plane_ranges(planes, c.volume);
+  const Scene scene = scene_of(planes, c.volume);
+  const V3 focus = error_focus(e, planes, witness, fault, scene.center);
+  const double width = error_width(x, focus, scene);
 
   json pl = json::array(), rg = json::array();
   for (std::size_t j = 0; j < 6; ++j) {
@@ -329,7 +357,7 @@ json case_view_json(const CorpusEntry& e) {
           {"witness", w},
           {"fault_plane", fault},
           {"fault_reason", fault >= 0 ? fault_reason : ""},
-          {"scene", {{"center", vec_json(center)}, {"radius", radius}, {"frustum_corners", frustum_corners}}},
+          {"scene", {{"center", vec_json(scene.center)}, {"radius", scene.radius}, {"frustum_corners", scene.frustum_corners}}},
           {"focus", vec_json(focus)},
           {"error_width", width},
           {"frustum_text", format_frustum(c.frustum)},
