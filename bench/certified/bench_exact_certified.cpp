@@ -207,7 +207,7 @@ void register_stages(const char* kind, Classify classify) {
       }
       s.counters["cases"] = double(cases);
       for (int k = 0; k < 3; ++k)
-        s.counters[to_string(ExactStage(k))] = cases ? double(count[k]) / double(cases) : 0.0;
+        s.counters[std::string(to_string(ExactStage(k)))] = cases ? double(count[k]) / double(cases) : 0.0;
       if (!ev.empty()) per_test(s, ev.size());
     });
   }

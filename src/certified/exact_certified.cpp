@@ -529,7 +529,7 @@ void build_combinations(ExactCertifiedFrustum& f) {
 
 }  // namespace
 
-const char* to_string(ExactStage s) noexcept {
+std::string_view to_string(ExactStage s) noexcept {
   switch (s) {
     case ExactStage::planes: return "planes";
     case ExactStage::axes: return "axes";

@@ -31,6 +31,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 
 namespace cullproof {
 
@@ -41,7 +42,7 @@ enum class ExactStage : std::uint8_t {
   exact = 2,   ///< stage 3: exact integer arithmetic
 };
 /// "planes", "axes", "exact".
-const char* to_string(ExactStage s) noexcept;
+std::string_view to_string(ExactStage s) noexcept;
 
 /// The error model (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed., §2.2,
 /// §3.1): double arithmetic, unit roundoff u = 2^-53, fl(x op y) = (x op y)(1 + e) with |e| <= u.
