@@ -1175,6 +1175,18 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
         for (int i = 0; i < 3; ++i) pos |= unsigned(r.a[j][i + 1] > 0.0) << i, neg |= unsigned(r.a[j][i + 1] < 0.0) << i;
     if ((pos & neg) == 0) return Visibility::intersecting;
   }
+  if (crossing && f.has_interior && __builtin_popcount(J) >= 5) {
+    // Five or six planes left (a box about as large as the frustum): the point of the box nearest
+    // the frame's interior point, proved inside each (stage 2's first witness for such boxes,
+    // before its rows are gathered).
+    set_stage(stage, ExactStage::axes);
+    double t[3];
+    obb_coordinates(b, f.interior, t);
+    bool in = true;
+    for (int j = 0; j < f.count && in; ++j)
+      if (J >> j & 1) in = row_at(r.a[j], t) >= (f.plane[std::size_t(j)].a * X + f.plane[std::size_t(j)].ad) * kEpsRow;
+    if (in) return Visibility::intersecting;
+  }
   finish_rows(f, r, X, J);
   return box_rest(f, BoxIn{nullptr, &b}, r, crossing, stage);
 }
