@@ -63,9 +63,8 @@ int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const s
 
 void add_verify(CLI::App& app, VerifyCommand& c, ExternalProgram& external) {
   VerifyOptions& vopt = c.options;
-  vopt.corpus = std::filesystem::path("corpus");
-  c.cmd = app.add_subcommand("verify", "The side-by-side verification run: every method and the oracle on generated cases");
-  CLI::App* verify_cmd = c.cmd;
+  CLI::App* verify_cmd = c.cmd =
+      app.add_subcommand("verify", "The side-by-side verification run: every method and the oracle on generated cases");
   verify_cmd->add_option("--cases", vopt.cases, "Cases per distribution")
       ->capture_default_str()
       ->check(cli::UnsignedRange(1, kMaxCases));

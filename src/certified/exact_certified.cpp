@@ -1122,7 +1122,7 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
     // An anchor of the frame (a point certified inside every plane) that the box holds, compared
     // exactly: first when three or more planes are left (a large box; many combinations), after
     // the combinations when two are (one to three combinations, and rarely an anchor held).
-    const unsigned rest = J & (J - 1);
+    const unsigned rest = J & (J - 1);  // J without its lowest plane
     const bool two = (rest & (rest - 1)) == 0;
     if (!two && holds_anchor(f, b)) return Visibility::intersecting;
     const Tri meets = aabb_combinations(f, e, m, J, p_in == J);
@@ -1175,19 +1175,16 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
         for (int i = 0; i < 3; ++i) pos |= unsigned(r.a[j][i + 1] > 0.0) << i, neg |= unsigned(r.a[j][i + 1] < 0.0) << i;
     if ((pos & neg) == 0) return Visibility::intersecting;
   }
+  finish_rows(f, r, X, J);
   if (crossing && f.has_interior && __builtin_popcount(J) >= 5) {
     // Five or six planes left (a box about as large as the frustum): the point of the box nearest
-    // the frame's interior point, proved inside each (stage 2's first witness for such boxes,
-    // before its rows are gathered).
+    // the frame's interior point is stage 2's witness for most such boxes; tried before box_rest
+    // rechecks and filters the rows.
     set_stage(stage, ExactStage::axes);
     double t[3];
     obb_coordinates(b, f.interior, t);
-    bool in = true;
-    for (int j = 0; j < f.count && in; ++j)
-      if (J >> j & 1) in = row_at(r.a[j], t) >= (f.plane[std::size_t(j)].a * X + f.plane[std::size_t(j)].ad) * kEpsRow;
-    if (in) return Visibility::intersecting;
+    if (witness(r, t)) return Visibility::intersecting;
   }
-  finish_rows(f, r, X, J);
   return box_rest(f, BoxIn{nullptr, &b}, r, crossing, stage);
 }
 
