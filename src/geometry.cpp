@@ -2,6 +2,7 @@
 #include "cullproof/geometry.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -83,6 +84,24 @@ Obb to_obb(const Aabb& b) noexcept {
     if (!std::isfinite(h[i])) h[i] = 0.5f * b.max[i] - 0.5f * b.min[i];
   }
   return Obb{c, glm::mat3(1.0f), h};
+}
+
+namespace {
+
+// The smallest float >= a - b (floats a >= b): the double difference and its rounding error
+// (Knuth's TwoSum, exact for doubles), so that a rounded-down difference is rounded up.
+float difference_at_least(float a, float b) noexcept {
+  const double x = double(a), y = -double(b), s = x + y, yv = s - x, e = (x - (s - yv)) + (y - yv);
+  return float_at_least(e > 0.0 ? std::nextafter(s, std::numeric_limits<double>::infinity()) : s);
+}
+
+}  // namespace
+
+Obb enclosing_obb(const Aabb& b) noexcept {
+  Obb o = to_obb(b);
+  for (int i = 0; i < 3; ++i)
+    o.half[i] = std::max(difference_at_least(b.max[i], o.center[i]), difference_at_least(o.center[i], b.min[i]));
+  return o;
 }
 
 namespace {

@@ -97,7 +97,7 @@ void register_certified_methods(std::vector<Method>& out) {
                 "Gottschalk, Lin & Manocha 1996 §4 + Farkas certificate; src/certified/certified_sat.cpp",
                 kAabbKind | kObbKind, false),
       certified_frustum,
-      overload{[](const CertifiedFrustum& f, const Aabb& a) { return certified_sat(f, to_obb(a)); },
+      overload{[](const CertifiedFrustum& f, const Aabb& a) { return certified_sat(f, enclosing_obb(a)); },
                [](const CertifiedFrustum& f, const Obb& b) { return certified_sat(f, b); }}));
   out.push_back(make_method(
       exact_certified("aabb-exact-certified",

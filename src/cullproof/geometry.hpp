@@ -94,6 +94,10 @@ std::string_view volume_kind_name(unsigned kind_bit) noexcept;
 /// and half-extents 0.5 (max - min), each rounded once to float, also where the float sum or
 /// difference would overflow (then taken from the halves).
 Obb to_obb(const Aabb& b) noexcept;
+/// An OBB that holds the whole box: to_obb's centre, and half-extents that reach from it to both
+/// faces, rounded up. to_obb's roundings can drop a sliver of the box (half an ulp of a subnormal
+/// centre, say); a method that claims never to reject a visible box takes this one instead.
+Obb enclosing_obb(const Aabb& b) noexcept;
 
 /// Thrown when input geometry is invalid. what() names the field and the problem.
 class ValidationError : public std::invalid_argument {

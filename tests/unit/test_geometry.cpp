@@ -1,8 +1,11 @@
 // Geometry core: names, normalisation, validation messages.
 #include "cullproof/geometry.hpp"
 
+#include <boost/multiprecision/cpp_int.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <limits>
 
 using namespace cullproof;
@@ -88,4 +91,39 @@ TEST(Volume, KindsAndToObb) {
   const Obb o = to_obb(Aabb{{0, 2, 4}, {2, 6, 4}});
   EXPECT_EQ(o.center, glm::vec3(1, 4, 4));
   EXPECT_EQ(o.half, glm::vec3(1, 2, 0));
+}
+
+// A float as an exact integer multiple of 2^-172 (a subnormal is m 2^(e-24) with e >= -148).
+boost::multiprecision::cpp_int fixed(float x) {
+  if (x == 0.0f) return 0;
+  int ex = 0;
+  const auto mant = static_cast<std::int32_t>(std::ldexp(std::frexp(x, &ex), 24));  // x = mant 2^(ex - 24)
+  return boost::multiprecision::cpp_int(mant) << static_cast<unsigned>(ex - 24 + 172);
+}
+
+// Exact containment: c - h <= lo and hi <= c + h on every axis.
+bool encloses(const Obb& o, const Aabb& b) {
+  for (int i = 0; i < 3; ++i) {
+    const auto c = fixed(o.center[i]), h = fixed(o.half[i]);
+    if (c - h > fixed(b.min[i]) || c + h < fixed(b.max[i])) return false;
+  }
+  return o.axes == glm::mat3(1.0f);
+}
+
+TEST(Geometry, TheEnclosingObbHoldsTheWholeBox) {
+  const float big = std::numeric_limits<float>::max(), sub = std::numeric_limits<float>::denorm_min();
+  // A subnormal box whose float centre rounds by half an ulp: to_obb loses a sliver of it.
+  const Aabb sliver{{1.61e-43f, 3.85e-43f, 7.54e-43f}, {1.63e-43f, 3.87e-43f, 7.55e-43f}};
+  EXPECT_FALSE(encloses(to_obb(sliver), sliver));
+  EXPECT_TRUE(encloses(enclosing_obb(sliver), sliver));
+  // Far-apart exponents, where the double difference itself rounds; the whole float range.
+  for (const Aabb& b : {sliver, Aabb{{1e-30f, 3, -big}, {1e30f, 3.0000002f, big}}, Aabb{{-big, -big, -big}, {big, big, big}},
+                        Aabb{{sub, -sub, 0}, {2 * sub, sub, 1e-38f}}, Aabb{{-1e38f, 1.5f, -7}, {3e38f, 1.5f, 1e-45f}}}) {
+    const Obb o = enclosing_obb(b);
+    EXPECT_TRUE(encloses(o, b));
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(o.half[i]));
+  }
+  // Where to_obb is exact, so is the enclosing box.
+  const Aabb exact{{0, 2, 4}, {2, 6, 4}};
+  EXPECT_EQ(enclosing_obb(exact).half, to_obb(exact).half);
 }
