@@ -420,6 +420,64 @@ void CertSphereKernel(const CertPlane* planes, int count, const float* x, const 
   CertSphereImpl<false, 0>(planes, count, x, y, z, r, t, m_safe, w0, w1, visible, inside, unsafe);
 }
 
+// Boxes the plane test left undecided (bits of `todo`), proved to meet the frustum without being
+// inside it: `meets` bit set iff some float point of the box, the seed point g clamped to it or
+// its centre fl(fl(lo + hi) 0.5) (both exactly in the box), has fl(n'.x + d_in) >= fl(t M_x) on
+// every plane (M_x bounding |x_i|: x strictly inside every plane), and some plane's n-vertex q has
+// fl(n'.q + d_out) < -fl(t M) (q strictly outside it, so the box is not inside). These are the
+// fast path's point tests (certified.cpp: the bound holds at any float point, fused or not), so
+// every set bit is a proof; a box whose M exceeds m_safe (or holds a NaN) gets no bit.
+void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, const float* g, float t,
+                        float m_safe, std::size_t w0, std::size_t w1, const std::uint64_t* todo,
+                        std::uint64_t* meets) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  using V = hn::Vec<decltype(d)>;
+  using VU = hn::Vec<decltype(du)>;
+  using M = hn::Mask<decltype(d)>;
+  const std::size_t N = hn::Lanes(d);
+  const PlaneVecs<decltype(d)> pv(d, planes, count);
+  M low[6][3];  // the n-vertex reads min on axis j where n'_j >= 0
+  for (int k = 0; k < count; ++k) {
+    low[k][0] = hn::Ge(pv.nx[k], hn::Zero(d));
+    low[k][1] = hn::Ge(pv.ny[k], hn::Zero(d));
+    low[k][2] = hn::Ge(pv.nz[k], hn::Zero(d));
+  }
+  const V tv = hn::Set(d, t), half = hn::Set(d, 0.5f), inf = hn::Set(d, HUGE_VALF);
+  const V gv[3] = {hn::Set(d, g[0]), hn::Set(d, g[1]), hn::Set(d, g[2])};
+  const V msafe = hn::Set(d, m_safe);
+  for (std::size_t w = w0; w < w1; ++w) {
+    std::uint64_t bits = 0;
+    if (todo[w] != 0)
+      for (std::size_t j = 0; j < 64; j += N) {
+        const std::size_t i = w * 64 + j;
+        V lo[3], hi[3], p[3], c[3];
+        VU mb = hn::Zero(du), mp = hn::Zero(du);
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = hn::LoadU(d, a.min[k] + i);
+          hi[k] = hn::LoadU(d, a.max[k] + i);
+          mb = hn::Max(mb, hn::Max(abs_bits(du, lo[k]), abs_bits(du, hi[k])));
+          p[k] = hn::Min(hn::Max(gv[k], lo[k]), hi[k]);
+          mp = hn::Max(mp, abs_bits(du, p[k]));
+          c[k] = hn::Mul(hn::Add(lo[k], hi[k]), half);
+        }
+        V wp = inf, wc = inf, wq = inf;
+        for (int k = 0; k < count; ++k) {
+          wp = hn::Min(wp, plane3(pv.nx[k], pv.ny[k], pv.nz[k], pv.din[k], p[0], p[1], p[2]));
+          wc = hn::Min(wc, plane3(pv.nx[k], pv.ny[k], pv.nz[k], pv.din[k], c[0], c[1], c[2]));
+          wq = hn::Min(wq, plane3(pv.nx[k], pv.ny[k], pv.nz[k], pv.dout[k], hn::IfThenElse(low[k][0], lo[0], hi[0]),
+                                  hn::IfThenElse(low[k][1], lo[1], hi[1]), hn::IfThenElse(low[k][2], lo[2], hi[2])));
+        }
+        const V tb = hn::Mul(tv, hn::BitCast(d, mb)), tp = hn::Mul(tv, hn::BitCast(d, mp));
+        const auto inside_point = hn::Or(hn::Ge(wp, tp), hn::Ge(wc, tb));
+        const auto proved = hn::And(hn::And(inside_point, hn::Lt(wq, hn::Neg(tb))),
+                                    hn::Le(hn::BitCast(d, mb), msafe));  // false for NaN
+        bits |= mask_bits(d, proved) << j;
+      }
+    meets[w] = bits & todo[w];
+  }
+}
+
 bool UsesFmaImpl() { return HWY_NATIVE_FMA != 0; }
 
 }  // namespace HWY_NAMESPACE
@@ -431,6 +489,7 @@ namespace cullproof {
 
 HWY_EXPORT(CertAabbKernel);
 HWY_EXPORT(CertSphereKernel);
+HWY_EXPORT(CertAabbMeetKernel);
 HWY_EXPORT(UsesFmaImpl);
 
 namespace {
@@ -650,6 +709,32 @@ void certified_cull_aabbs_bitset(const CertifiedFrustum& f, const AabbSoa& b, st
 void certified_cull_spheres_bitset(const CertifiedFrustum& f, const SphereSoa& s, std::uint64_t* visible,
                                    std::uint64_t* inside) {
   spheres(f, s, visible, inside);
+}
+
+void certified_meets_aabbs_bitset(const CertifiedFrustum& frustum, const AabbSoa& b, const glm::vec3& seed,
+                                  const std::uint64_t* todo, std::uint64_t* meets) {
+  const CertifiedFrustum::Data& f = frustum.data();
+  const std::size_t words = bitset_words(b.count);
+  if (f.empty || f.active_count == 0) return clear(words, meets, nullptr);
+  auto run = [&](const AabbSoa& s, std::size_t w0, std::size_t w1, const std::uint64_t* in, std::uint64_t* out) {
+    CertPlane planes[6];
+    for (int i = 0; i < f.active_count; ++i) {
+      const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
+      planes[i] = CertPlane{p.nx, p.ny, p.nz, p.d_out, p.d_in, p.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+    }
+    const certified_batch_detail::Arrays arrays{{s.min_x, s.min_y, s.min_z}, {s.max_x, s.max_y, s.max_z}};
+    const float g[3] = {seed.x, seed.y, seed.z};
+    HWY_DYNAMIC_DISPATCH(CertAabbMeetKernel)(planes, f.active_count, arrays, g, f.t_box, f.m_safe, w0, w1, in, out);
+  };
+  const std::size_t full = b.count / 64, rest = b.count - full * 64;
+  run(b, 0, full, todo, meets);
+  if (rest == 0) return;
+  Padded pad{};
+  const float* src[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
+  for (int k = 0; k < 6; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
+  const AabbSoa tail{pad.v[0], pad.v[1], pad.v[2], pad.v[3], pad.v[4], pad.v[5], 64};
+  const std::uint64_t in = todo[full] & ((std::uint64_t{1} << rest) - 1);
+  run(tail, 0, 1, &in, meets + full);
 }
 
 bool certified_batch_uses_fma() { return HWY_DYNAMIC_DISPATCH(UsesFmaImpl)(); }

@@ -22,6 +22,15 @@ void certified_cull_aabbs_bitset(const CertifiedFrustum& f, const AabbSoa& boxes
 void certified_cull_spheres_bitset(const CertifiedFrustum& f, const SphereSoa& spheres, std::uint64_t* visible,
                                    std::uint64_t* inside = nullptr);
 
+/// Of the boxes whose bit is set in `todo` (bitset_words(count) words), sets bit i of `meets`
+/// where box i is certainly intersecting: a float point of it (`seed` clamped to the box, or its
+/// centre) is certified strictly inside every plane and a vertex strictly outside one, by the
+/// fast path's point tests; every other bit is zero. For boxes the plane test left undecided
+/// (visible and not inside): a set bit is a proof, a clear one decides nothing. Any seed is
+/// sound; one inside the frustum decides the most.
+void certified_meets_aabbs_bitset(const CertifiedFrustum& f, const AabbSoa& boxes, const glm::vec3& seed,
+                                  const std::uint64_t* todo, std::uint64_t* meets);
+
 /// Whether the dispatched SIMD target has fused multiply-adds. Without them the batches run
 /// the same operations volume by volume with std::fma (same verdicts, slower).
 bool certified_batch_uses_fma();

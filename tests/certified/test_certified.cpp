@@ -310,6 +310,38 @@ TEST(CertifiedBatch, TheDataReachesIntoTheMargin) {
 
 // Batch and scalar certified tests are both certified; they may differ only where one of them
 // cannot decide within its margin (it then says intersecting), never outside against inside.
+// The witness pass proves what it can and nothing else: the frustum of F() (|x|, |y| <= -z,
+// -3 <= z <= -1), seed (0, 0, -2). Boxes past a word, so that the padded tail runs too.
+TEST(CertifiedBatch, TheWitnessPassProvesBoxesThatCrossAPlane) {
+  const CertifiedFrustum f = certify_planes(F());
+  const float big = 3e38f;
+  const std::vector<Aabb> kinds = {
+      Aabb{{1.5f, -0.1f, -2.1f}, {2.5f, 0.1f, -1.9f}},   // crosses x = -z; (1.5, 0, -2) is inside: proved
+      Aabb{{-0.5f, -0.5f, -2.5f}, {0.5f, 0.5f, -1.5f}},  // inside: no vertex outside, no bit
+      Aabb{{5.0f, 5.0f, -2.0f}, {6.0f, 6.0f, -1.5f}},    // outside: no point inside, no bit
+      Aabb{{1.9f, 1.9f, -0.5f}, {2.1f, 2.1f, 0.5f}},     // outside beyond the near plane's edge: no bit
+      Aabb{{-big, -big, -big}, {big, big, big}},         // holds the frustum, but M > m_safe: no bit
+      Aabb{{2.5f, 2.5f, -2.5f}, {3.5f, 3.5f, -1.5f}},    // crosses two planes, the seed clamps to a corner
+                                                         // outside one, the centre (3, 3, -2) too: no bit
+  };
+  const std::vector<bool> proved = {true, false, false, false, false, false};
+  std::vector<Aabb> boxes;
+  for (int i = 0; i < 70; ++i) boxes.push_back(kinds[std::size_t(i) % kinds.size()]);
+  std::vector<float> a[6];
+  for (const Aabb& b : boxes)
+    for (int k = 0; k < 3; ++k) a[k].push_back(b.min[k]), a[3 + k].push_back(b.max[k]);
+  const AabbSoa soa{a[0].data(), a[1].data(), a[2].data(), a[3].data(), a[4].data(), a[5].data(), boxes.size()};
+  std::vector<std::uint64_t> todo(bitset_words(boxes.size()), ~std::uint64_t{0}), meets(todo.size(), 0);
+  todo.back() = (std::uint64_t{1} << (boxes.size() % 64)) - 1;
+  certified_meets_aabbs_bitset(f, soa, glm::vec3(0, 0, -2), todo.data(), meets.data());
+  for (std::size_t i = 0; i < boxes.size(); ++i) EXPECT_EQ(bit(meets, i), proved[i % kinds.size()]) << "box " << i;
+  EXPECT_EQ(meets.back() >> (boxes.size() % 64), 0u);  // nothing past the boxes
+  // Only boxes asked about: with todo clear, no bit.
+  std::fill(todo.begin(), todo.end(), 0);
+  certified_meets_aabbs_bitset(f, soa, glm::vec3(0, 0, -2), todo.data(), meets.data());
+  for (std::uint64_t w : meets) EXPECT_EQ(w, 0u);
+}
+
 TEST(CertifiedBatch, AgreesWithTheScalarTestsOutsideTheMargin) {
   for (const auto& [f, x] : batch_cases()) {
     std::vector<std::uint64_t> vis(bitset_words(x.n)), ins(bitset_words(x.n)), svis(bitset_words(x.n)),

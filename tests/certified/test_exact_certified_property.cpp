@@ -5,6 +5,7 @@
 // forms as well. Built twice: as is, and (test_exact_certified_fma) with the float stages compiled
 // with -mfma -ffp-contract=fast, so that the bounds are checked with contraction too.
 #include "cullproof/arbitrary.hpp"
+#include "cullproof/certified_batch.hpp"
 #include "cullproof/exact_certified.hpp"
 #include "cullproof/exact_certified_batch.hpp"
 #include "cullproof/generators.hpp"
@@ -48,6 +49,16 @@ Visibility batch(const char* name, const CaseFrustum& f, const Aabb& b) {
   find_builtin(name)->prepare(f)->classify_batch(&b, 1, &a);
   return *a;
 }
+// The SIMD witness pass of the AABB batch on one box (as the only lane of a word): whether it
+// proves the box intersecting from `seed`.
+bool simd_witness(const ExactCertifiedFrustum& f, const Aabb& b, const glm::vec3& seed) {
+  const AabbSoa one{&b.min.x, &b.min.y, &b.min.z, &b.max.x, &b.max.y, &b.max.z, 1};
+  const std::uint64_t todo = 1;
+  std::uint64_t meets = ~std::uint64_t{0};
+  certified_meets_aabbs_bitset(f.certified, one, seed, &todo, &meets);
+  return meets != 0;
+}
+
 Visibility batch(const char* name, const CaseFrustum& f, const Sphere& s) {
   Answer a;
   find_builtin(name)->prepare(f)->classify_batch(&s, 1, &a);
@@ -71,6 +82,13 @@ TEST_P(ExactCertifiedOnEveryFamily, EqualsTheOracle) {
     if (const Aabb* a = std::get_if<Aabb>(&g.volume)) {
       expect("aabb-exact-certified", exact_certified_aabb(f, *a));
       expect("aabb-batch-exact-certified", batch("aabb-batch-exact-certified", g.frustum, *a));
+      // Every bit of the witness pass is a proof, from the frame's seed or from any float point.
+      const auto t = *rc::gen::container<std::vector<float>>(3, rc::gen::elementOf(std::vector<float>{-1.0f, 0.0f, 0.25f, 0.5f, 1.0f, 3.0f}));
+      const glm::vec3 seeds[2] = {glm::vec3(float(f.interior[0]), float(f.interior[1]), float(f.interior[2])),
+                                  a->min + glm::vec3(t[0], t[1], t[2]) * (a->max - a->min)};
+      for (const glm::vec3& seed : seeds)
+        if (is_valid(Point{seed}) && simd_witness(f, *a, seed) && truth != Visibility::intersecting)
+          RC_FAIL("the SIMD witness pass proved a box intersecting whose truth is " + std::string(to_string(truth)));
       Obb o;
       if (exact_obb(*a, o)) expect("obb-exact-certified (the box as an OBB)", exact_certified_obb(f, o));
     } else if (const Obb* o = std::get_if<Obb>(&g.volume)) {
@@ -143,7 +161,13 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
     const ExactCertifiedFrustum f = prepare_exact_certified(g.frustum);
     Visibility v;
     std::string method;
-    if (const Aabb* a = std::get_if<Aabb>(&g.volume)) v = exact_certified_aabb(f, *a), method = "aabb-exact-certified";
+    if (const Aabb* a = std::get_if<Aabb>(&g.volume)) {
+      const Visibility w = batch("aabb-batch-exact-certified", g.frustum, *a);
+      if (w != truth)
+        RC_FAIL("aabb-batch-exact-certified says " + std::string(to_string(w)) + ", the truth is " +
+                std::string(to_string(truth)) + " (k = " + std::to_string(k) + ")");
+      v = exact_certified_aabb(f, *a), method = "aabb-exact-certified";
+    }
     else if (const Obb* o = std::get_if<Obb>(&g.volume)) v = exact_certified_obb(f, *o), method = "obb-exact-certified";
     else if (const Sphere* sp = std::get_if<Sphere>(&g.volume)) v = exact_certified_sphere(f, *sp), method = "sphere-exact-certified";
     else v = exact_certified_aabb(f, Aabb{std::get<Point>(g.volume), std::get<Point>(g.volume)}), method = "aabb-exact-certified (point)";
