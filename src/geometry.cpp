@@ -1,8 +1,8 @@
 // Geometry core: names, normalisation and validation of the shapes of docs/semantics.md.
 #include "cullproof/geometry.hpp"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 

@@ -614,6 +614,13 @@ struct Padded {  // the tail's copy, padded with zeros (a point box / sphere at 
   float v[6][64];
 };
 
+// Boxes [full * 64, full * 64 + rest) of b copied into pad: one word of boxes, the rest zero.
+AabbSoa padded_tail(const AabbSoa& b, std::size_t full, std::size_t rest, Padded& pad) {
+  const float* src[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
+  for (int k = 0; k < 6; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
+  return AabbSoa{pad.v[0], pad.v[1], pad.v[2], pad.v[3], pad.v[4], pad.v[5], 64};
+}
+
 void aabbs(const CertifiedFrustum& frustum, const AabbSoa& b, std::uint64_t* visible, std::uint64_t* inside) {
   const CertifiedFrustum::Data& f = frustum.data();
   if (f.empty) return clear(bitset_words(b.count), visible, inside);
@@ -650,9 +657,7 @@ void aabbs(const CertifiedFrustum& frustum, const AabbSoa& b, std::uint64_t* vis
   run(b, full, visible, inside);
   if (rest == 0) return;
   Padded pad{};
-  const float* src[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
-  for (int k = 0; k < 6; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
-  const AabbSoa tail{pad.v[0], pad.v[1], pad.v[2], pad.v[3], pad.v[4], pad.v[5], 64};
+  const AabbSoa tail = padded_tail(b, full, rest, pad);
   std::uint64_t vis = 0, ins = 0;
   run(tail, 1, &vis, inside ? &ins : nullptr);
   const std::uint64_t keep = (std::uint64_t{1} << rest) - 1;
@@ -716,23 +721,21 @@ void certified_meets_aabbs_bitset(const CertifiedFrustum& frustum, const AabbSoa
   const CertifiedFrustum::Data& f = frustum.data();
   const std::size_t words = bitset_words(b.count);
   if (f.empty || f.active_count == 0) return clear(words, meets, nullptr);
+  CertPlane planes[6];
+  for (int i = 0; i < f.active_count; ++i) {
+    const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
+    planes[i] = CertPlane{p.nx, p.ny, p.nz, p.d_out, p.d_in, p.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+  }
+  const float g[3] = {seed.x, seed.y, seed.z};
   auto run = [&](const AabbSoa& s, std::size_t w0, std::size_t w1, const std::uint64_t* in, std::uint64_t* out) {
-    CertPlane planes[6];
-    for (int i = 0; i < f.active_count; ++i) {
-      const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
-      planes[i] = CertPlane{p.nx, p.ny, p.nz, p.d_out, p.d_in, p.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
-    }
     const certified_batch_detail::Arrays arrays{{s.min_x, s.min_y, s.min_z}, {s.max_x, s.max_y, s.max_z}};
-    const float g[3] = {seed.x, seed.y, seed.z};
     HWY_DYNAMIC_DISPATCH(CertAabbMeetKernel)(planes, f.active_count, arrays, g, f.t_box, f.m_safe, w0, w1, in, out);
   };
   const std::size_t full = b.count / 64, rest = b.count - full * 64;
   run(b, 0, full, todo, meets);
   if (rest == 0) return;
   Padded pad{};
-  const float* src[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
-  for (int k = 0; k < 6; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
-  const AabbSoa tail{pad.v[0], pad.v[1], pad.v[2], pad.v[3], pad.v[4], pad.v[5], 64};
+  const AabbSoa tail = padded_tail(b, full, rest, pad);
   const std::uint64_t in = todo[full] & ((std::uint64_t{1} << rest) - 1);
   run(tail, 0, 1, &in, meets + full);
 }
