@@ -27,9 +27,12 @@
 //  rounded sum has the sign of the exact sum, and is zero only when it is exact zero), so they
 //  are the true extreme vertices; M = max |min_j|, |max_j|.
 //
-//  Sphere: outside iff n.c + d + r |n| < 0. nu^ = fl(sqrt(fl(n^.n^))) has
-//  |nu^ - |n^|| <= 2.6 u |n^| and ||n^| - |n|| <= |n^ - n| <= u A, so |nu^ - |n|| <= 3.7 u A;
-//  rho^ = fl(r nu^) is within 4.8 u r A of r |n|; the final sum rounds once more. In all
+//  Sphere: outside iff n.c + d + r |n| < 0. nu = |n^| is computed in double (the squares of
+//  floats are exact there, never below 2^-298; two sums and the root: within 2^-51 |n^|), and
+//  rho^ = fl(r nu) in double, rounded to float once: within (u + 2^-50) r |n^| + 2^-150 (the
+//  float rounding, subnormal or not) of r |n^|. (In float, fl(n^.n^) would lose every square
+//  below 2^-149, which is all of them when |n^| < 2^-75.) With ||n^| - |n|| <= |n^ - n| <= u A,
+//  rho^ is within 2.01 u r A + 2^-150 of r |n|; the final sum rounds once more. In all
 //  |fl(s^ +- rho^) - (S +- r|n|)| <= 11 u (A (M + r) + a_d), covered by
 //      t = 2^-20 fl(fl(A' fl(M + r)) + a_d) + 2^-126   (16 u).
 //
@@ -58,8 +61,10 @@
 //      S' < -T - delta + g4 ((1 + u) A' M + (1 + u) a'_d + delta) + u (A' M + a'_d) < 0,
 //  since T >= 8 u (1 - u) A' M > 5.0001 u A' M and delta (1 - g4) >= 8 u a'_d > 5.0001 u a'_d
 //  (2^-126 absorbs the underflow errors: a few 2^-150 in the products and in T). The inside
-//  test is the mirror image. Sphere: the same with m = fl(M + r), rho = fl(r nu') as before and
-//  the 11 u bound, covered by 16 u in t and delta. Both are sound with or without FMA, like the
+//  test is the mirror image. Sphere: the same with m = fl(M + r), rho = fl(r nu') and the 11 u
+//  bound, covered by 16 u in t and delta; nu' = |n'| in double rounded to float is within
+//  u |n'| + 2^-150 of it, the second term only when nu' is subnormal (A' < 2^-126), and then
+//  t gets 2^-149 more, so that T >= 2^-149 (M + r) covers r 2^-150. Both are sound with or without FMA, like the
 //  per-plane margins; they are at most 2x wider than those on the A M part (A'_k >= 1 >
 //  max A'/2 for scaled planes) and equal on the constant part.
 //  M of a box is max_j max(max_j, -min_j), equal to max_j max(|min_j|, |max_j|) for a valid
@@ -108,6 +113,7 @@ float up(double x) noexcept { return float_at_least(x + std::abs(x) * 0x1p-50); 
 // |n'_i - n_i 2^-e| <= u a'_i still holds for the true plane's scaled normal.
 void derive_fast(CertifiedFrustum::Data& c) {
   double a_max = 0.0, d_max = 0.0;
+  bool subnormal_norm = false;
   for (int i = 0; i < c.active_count; ++i) {
     const int k = c.active[static_cast<std::size_t>(i)];
     const Plane& p = c.planes[k];
@@ -134,19 +140,21 @@ void derive_fast(CertifiedFrustum::Data& c) {
     box.d_in = -up(-(dx - delta_box));
     sph.d_out = up(dx + delta_sphere);
     sph.d_in = -up(-(dx - delta_sphere));
-    sph.norm = box.norm = std::sqrt(q.nx * q.nx + q.ny * q.ny + q.nz * q.nz);
+    sph.norm = box.norm = float(std::sqrt(double(q.nx) * q.nx + double(q.ny) * q.ny + double(q.nz) * q.nz));
+    subnormal_norm = subnormal_norm || sph.norm < std::numeric_limits<float>::min();
     d_max = std::max({d_max, std::abs(double(sph.d_out)), std::abs(double(sph.d_in))});
   }
   c.t_box = float_at_least(kNarrow * a_max);
-  c.t_sphere = float_at_least(kWide * a_max);
+  c.t_sphere = float_at_least(kWide * a_max + (subnormal_norm ? 0x1p-149 : 0.0));
   // No overflow on the fast path: every partial sum is at most (1 + u)^5 (A' M + |d|) <= 2^121.
   const double room = 0x1p120 - d_max;
   const float m_fast = a_max > 0.0 ? float_at_most(room / a_max) : std::numeric_limits<float>::max();
   c.m_safe = room > 0.0 ? std::min(c.m_safe, m_fast) : 0.0f;
 }
 
-// Per-frame derivation of the margins (see the header): alpha = 2^-21 A and 2^-20 A are exact
-// power-of-two scalings of A' (unless subnormal, covered by kTiny); beta = 2^-21 a_d + kTiny.
+// Per-frame derivation of the margins (see the header): alpha = 2^-21 A and 2^-20 A rounded up
+// to a float (exact power-of-two scalings of A' unless subnormal; rounded up, never to zero,
+// since alpha multiplies M, which can be 2^127); beta = 2^-21 a_d + kTiny.
 // Computing t = alpha M + beta rounds twice, a factor (1 - u)^2 the margins above allow for.
 // m_safe: with M <= m_safe, A M + a_d <= 2^120 for every plane, so no product, partial sum or
 // margin can overflow (every partial sum is at most (1 + u)^4 times the sum of the magnitudes).
@@ -156,11 +164,12 @@ void derive(CertifiedFrustum::Data& c) {
   c.empty = false;
   for (int k = 0; k < 6; ++k) {
     c.bound_sum[k] = float_at_least(double(c.bound[k].x) + double(c.bound[k].y) + double(c.bound[k].z));
-    c.alpha_narrow[k] = CertifiedMargins::kNarrow * c.bound_sum[k];
+    c.alpha_narrow[k] = float_at_least(kNarrow * double(c.bound_sum[k]));
     c.beta_narrow[k] = float_at_least(kNarrow * double(c.bound[k].w) + double(kTiny));
-    c.alpha_wide[k] = CertifiedMargins::kWide * c.bound_sum[k];
+    c.alpha_wide[k] = float_at_least(kWide * double(c.bound_sum[k]));
     c.beta_wide[k] = float_at_least(kWide * double(c.bound[k].w) + double(kTiny));
     const Plane& p = c.planes[k];
+    c.norm[k] = std::sqrt(double(p.n.x) * p.n.x + double(p.n.y) * p.n.y + double(p.n.z) * p.n.z);
     if (p.is_degenerate()) {
       // n^ == 0 exactly iff n == 0, and sign(d^) == sign(d): decided exactly.
       if (p.d < 0.0f) c.empty = true;
@@ -322,7 +331,7 @@ Visibility certified_sphere(const CertifiedFrustum& frustum, const Sphere& sp) n
       const Plane& p = f.planes[k];
       t = f.alpha_wide[k] * m + f.beta_wide[k];
       const float s = p.eval(c);
-      const float rho = sp.radius * std::sqrt(glm::dot(p.n, p.n));
+      const float rho = float(double(sp.radius) * f.norm[k]);
       return std::pair<float, float>(s - rho, s + rho);
     });
   }

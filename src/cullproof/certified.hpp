@@ -19,7 +19,7 @@ struct CertifiedPlane {
   float nx = 0, ny = 0, nz = 0;  ///< the float normal times 2^-e, rounded away from zero (signs kept)
   float d_out = 0;               ///< d 2^-e + delta, rounded up: the offset of the "outside" test
   float d_in = 0;                ///< d 2^-e - delta, rounded down: the offset of the "inside" test
-  float norm = 0;                ///< fl(sqrt(fl(n.n))) of the scaled normal (sphere tests)
+  float norm = 0;                ///< |n| of the scaled normal, in double, rounded to float (sphere tests)
 };
 
 /// The factors of the certified margins, derived in src/certified/certified.cpp from the
@@ -53,6 +53,7 @@ class CertifiedFrustum {
     // "all space" planes are left out of `active`, a "nothing" plane sets `empty`. Volumes with
     // M <= m_safe cannot overflow anything in the tests; larger ones take a guarded path.
     std::array<float, 6> alpha_narrow{}, beta_narrow{}, alpha_wide{}, beta_wide{};
+    std::array<double, 6> norm{};  ///< |n| of the float plane, in double (the guarded sphere test)
     std::array<int, 6> active{};
     int active_count = 0;
     bool empty = false;

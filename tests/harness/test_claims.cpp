@@ -90,6 +90,14 @@ TEST(Claims, HoldOnTheCasesThatOnceBrokeThem) {
                Plane{{-0.25720006f, -0.11508757f, -0.9594806f}, 8.1e-43f}, Plane{{0.3280989f, 0.40457815f, 0.8536203f}, -7.16e-43f},
                Plane{{0.20308244f, 0.8948411f, -0.3975135f}, 3.1e-43f}, Plane{{-0.2030824f, -0.89484113f, 0.39751342f}, 7.8e-44f}}),
        Aabb{{1.61e-43f, 3.85e-43f, 7.54e-43f}, {1.63e-43f, 3.87e-43f, 7.55e-43f}}},
+      // sphere-certified and sphere-batch-certified took |n| of the plane x = 2^-149 as 0 (its
+      // square underflows) on a ball of radius 2^111 tangent to it, and rejected the ball
+      // (a `contact` case scaled by 2^117, each plane by its own power of two).
+      {"tangent ball, subnormal normal",
+       frustum_spec(Frustum{Plane{{0x1p-149f, 0, 0}, 0x1.02p-26f}, Plane{{-0x1p-149f, 0, 0}, -0x1.fcp-27f},
+                            Plane{{0, 0x1p-3f, 0}, 0x1.7p+117f}, Plane{{0, -0x1p-149f, 0}, -0x1.5p-29f},
+                            Plane{{0, 0, -0x1p-149f}, -0x1.02p-26f}, Plane{{0, 0, 0}, 0x1.06p-27f}}),
+       Sphere{{-0x1.021p+123f, -0x1.6p+120f, -0x1.04p+123f}, 0x1p+111f}},
   };
   for (const Found& c : found) {
     std::map<std::string, int> reported;
