@@ -478,6 +478,42 @@ void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, con
   }
 }
 
+// Spheres the plane test left undecided (bits of `todo`), proved to meet the frustum without
+// being inside it: `meets` bit set iff the centre c has fl(n'.c + d_in) >= fl(t_box M_c) on every
+// plane with the box planes' margins (the point test: c strictly inside every plane, so the ball
+// meets the frustum) and some plane has fl(-r |n'| + fl(n'.c + d_out)) < -fl(t_sphere fl(M_c + r))
+// with the sphere planes' margins (c - r n/|n| strictly outside it, so the ball is not inside).
+// The second is the sphere test's own bound, which certified.cpp derives for r |n| taken with
+// either sign; both hold fused or not. A sphere whose M passes m_safe (or holds a NaN) gets no bit.
+void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_planes, int count, const float* x,
+                          const float* y, const float* z, const float* r, float t_box, float t_sphere, float m_safe,
+                          std::size_t w0, std::size_t w1, const std::uint64_t* todo, std::uint64_t* meets) {
+  const hn::ScalableTag<float> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t N = hn::Lanes(d);
+  const PlaneVecs<decltype(d)> pb(d, box_planes, count), ps(d, sphere_planes, count);
+  const V tb = hn::Set(d, t_box), ts = hn::Set(d, t_sphere), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
+  for (std::size_t w = w0; w < w1; ++w) {
+    std::uint64_t bits = 0;
+    if (todo[w] != 0)
+      for (std::size_t j = 0; j < 64; j += N) {
+        const std::size_t i = w * 64 + j;
+        const V cx = hn::LoadU(d, x + i), cy = hn::LoadU(d, y + i), cz = hn::LoadU(d, z + i), rad = hn::LoadU(d, r + i);
+        const V mc = hn::Max(hn::Abs(cx), hn::Max(hn::Abs(cy), hn::Abs(cz)));
+        const V m = hn::Add(mc, rad);
+        V wc = inf, wq = inf;
+        for (int k = 0; k < count; ++k) {
+          wc = hn::Min(wc, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], cx, cy, cz));
+          wq = hn::Min(wq, hn::NegMulAdd(rad, ps.len[k], plane3(ps.nx[k], ps.ny[k], ps.nz[k], ps.dout[k], cx, cy, cz)));
+        }
+        const auto proved = hn::And(hn::And(hn::Ge(wc, hn::Mul(tb, mc)), hn::Lt(wq, hn::Neg(hn::Mul(ts, m)))),
+                                    hn::Le(m, msafe));  // false for NaN
+        bits |= mask_bits(d, proved) << j;
+      }
+    meets[w] = bits & todo[w];
+  }
+}
+
 bool UsesFmaImpl() { return HWY_NATIVE_FMA != 0; }
 
 }  // namespace HWY_NAMESPACE
@@ -490,6 +526,7 @@ namespace cullproof {
 HWY_EXPORT(CertAabbKernel);
 HWY_EXPORT(CertSphereKernel);
 HWY_EXPORT(CertAabbMeetKernel);
+HWY_EXPORT(CertSphereMeetKernel);
 HWY_EXPORT(UsesFmaImpl);
 
 namespace {
@@ -614,11 +651,17 @@ struct Padded {  // the tail's copy, padded with zeros (a point box / sphere at 
   float v[6][64];
 };
 
-// Boxes [full * 64, full * 64 + rest) of b copied into pad: one word of boxes, the rest zero.
+// Volumes [full * 64, full * 64 + rest) copied into pad: one word of volumes, the rest zero.
 AabbSoa padded_tail(const AabbSoa& b, std::size_t full, std::size_t rest, Padded& pad) {
   const float* src[6] = {b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z};
   for (int k = 0; k < 6; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
   return AabbSoa{pad.v[0], pad.v[1], pad.v[2], pad.v[3], pad.v[4], pad.v[5], 64};
+}
+
+SphereSoa padded_tail(const SphereSoa& s, std::size_t full, std::size_t rest, Padded& pad) {
+  const float* src[4] = {s.x, s.y, s.z, s.radius};
+  for (int k = 0; k < 4; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
+  return SphereSoa{pad.v[0], pad.v[1], pad.v[2], pad.v[3], 64};
 }
 
 void aabbs(const CertifiedFrustum& frustum, const AabbSoa& b, std::uint64_t* visible, std::uint64_t* inside) {
@@ -694,9 +737,7 @@ void spheres(const CertifiedFrustum& frustum, const SphereSoa& s, std::uint64_t*
   run(s, full, visible, inside);
   if (rest == 0) return;
   Padded pad{};
-  const float* src[4] = {s.x, s.y, s.z, s.radius};
-  for (int k = 0; k < 4; ++k) std::memcpy(pad.v[k], src[k] + full * 64, rest * sizeof(float));
-  const SphereSoa tail{pad.v[0], pad.v[1], pad.v[2], pad.v[3], 64};
+  const SphereSoa tail = padded_tail(s, full, rest, pad);
   std::uint64_t vis = 0, ins = 0;
   run(tail, 1, &vis, inside ? &ins : nullptr);
   const std::uint64_t keep = (std::uint64_t{1} << rest) - 1;
@@ -736,6 +777,31 @@ void certified_meets_aabbs_bitset(const CertifiedFrustum& frustum, const AabbSoa
   if (rest == 0) return;
   Padded pad{};
   const AabbSoa tail = padded_tail(b, full, rest, pad);
+  const std::uint64_t in = todo[full] & ((std::uint64_t{1} << rest) - 1);
+  run(tail, 0, 1, &in, meets + full);
+}
+
+void certified_meets_spheres_bitset(const CertifiedFrustum& frustum, const SphereSoa& s, const std::uint64_t* todo,
+                                    std::uint64_t* meets) {
+  const CertifiedFrustum::Data& f = frustum.data();
+  const std::size_t words = bitset_words(s.count);
+  if (f.empty || f.active_count == 0) return clear(words, meets, nullptr);
+  CertPlane box[6], ball[6];
+  for (int i = 0; i < f.active_count; ++i) {
+    const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
+    const CertifiedPlane& q = f.fast_sphere[static_cast<std::size_t>(i)];
+    box[i] = CertPlane{p.nx, p.ny, p.nz, p.d_out, p.d_in, p.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+    ball[i] = CertPlane{q.nx, q.ny, q.nz, q.d_out, q.d_in, q.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+  }
+  auto run = [&](const SphereSoa& q, std::size_t w0, std::size_t w1, const std::uint64_t* in, std::uint64_t* out) {
+    HWY_DYNAMIC_DISPATCH(CertSphereMeetKernel)(box, ball, f.active_count, q.x, q.y, q.z, q.radius, f.t_box,
+                                               f.t_sphere, f.m_safe, w0, w1, in, out);
+  };
+  const std::size_t full = s.count / 64, rest = s.count - full * 64;
+  run(s, 0, full, todo, meets);
+  if (rest == 0) return;
+  Padded pad{};
+  const SphereSoa tail = padded_tail(s, full, rest, pad);
   const std::uint64_t in = todo[full] & ((std::uint64_t{1} << rest) - 1);
   run(tail, 0, 1, &in, meets + full);
 }

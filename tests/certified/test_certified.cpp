@@ -342,6 +342,37 @@ TEST(CertifiedBatch, TheWitnessPassProvesBoxesThatCrossAPlane) {
   for (std::uint64_t w : meets) EXPECT_EQ(w, 0u);
 }
 
+// The sphere witness pass: the centre certified inside every plane and the ball reaching past
+// one; same frustum, spheres past a word.
+TEST(CertifiedBatch, TheSphereWitnessPassProvesBallsWhoseCentreIsInside) {
+  const CertifiedFrustum f = certify_planes(F());
+  const std::vector<Sphere> kinds = {
+      Sphere{{1.5f, 0.0f, -2.0f}, 1.0f},     // centre inside, reaches past x = -z: proved
+      Sphere{{0.0f, 0.0f, -2.0f}, 0.25f},    // inside: no point outside, no bit
+      Sphere{{0.0f, 0.0f, -2.0f}, 0.999f},   // inside still (the nearest plane is 1.41 away): no bit
+      Sphere{{2.5f, 0.0f, -2.0f}, 1.0f},     // meets the frustum, but the centre is outside: no bit
+      Sphere{{9.0f, 9.0f, -2.0f}, 1.0f},     // outside: no bit
+      Sphere{{0.0f, 0.0f, -2.0f}, 3e38f},    // holds the frustum, but M > m_safe: no bit
+      Sphere{{0.0f, 0.0f, -1.0f}, 0.5f},     // centre on the near plane (not strictly inside): no bit
+  };
+  const std::vector<bool> proved = {true, false, false, false, false, false, false};
+  std::vector<float> a[4];
+  const std::size_t n = 75;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Sphere& s = kinds[i % kinds.size()];
+    a[0].push_back(s.center.x), a[1].push_back(s.center.y), a[2].push_back(s.center.z), a[3].push_back(s.radius);
+  }
+  const SphereSoa soa{a[0].data(), a[1].data(), a[2].data(), a[3].data(), n};
+  std::vector<std::uint64_t> todo(bitset_words(n), ~std::uint64_t{0}), meets(todo.size(), 0);
+  todo.back() = (std::uint64_t{1} << (n % 64)) - 1;
+  certified_meets_spheres_bitset(f, soa, todo.data(), meets.data());
+  for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(bit(meets, i), proved[i % kinds.size()]) << "sphere " << i;
+  EXPECT_EQ(meets.back() >> (n % 64), 0u);
+  std::fill(todo.begin(), todo.end(), 0);
+  certified_meets_spheres_bitset(f, soa, todo.data(), meets.data());
+  for (std::uint64_t w : meets) EXPECT_EQ(w, 0u);
+}
+
 TEST(CertifiedBatch, AgreesWithTheScalarTestsOutsideTheMargin) {
   for (const auto& [f, x] : batch_cases()) {
     std::vector<std::uint64_t> vis(bitset_words(x.n)), ins(bitset_words(x.n)), svis(bitset_words(x.n)),
