@@ -7,6 +7,7 @@
 #include "cullproof/exact_certified_batch.hpp"
 
 #include "batch_adapter.hpp"
+#include "batch_combinations.hpp"
 #include "cullproof/certified_batch.hpp"
 
 #include <algorithm>
@@ -31,26 +32,130 @@ void settle(const std::uint64_t* vis, const std::uint64_t* ins, const std::uint6
     }
 }
 
+// The seed of the witness points: the frame's interior point, rounded to float (any point is
+// sound; the clamped point is certified, not the seed).
+glm::vec3 witness_seed(const ExactCertifiedFrustum& f) noexcept {
+  return f.has_interior ? glm::vec3(float(f.interior[0]), float(f.interior[1]), float(f.interior[2])) : glm::vec3(0.0f);
+}
+
+// The boxes the certified batch (and, in a chunk where it leaves many, the witness pass) left
+// undecided, gathered across chunks so that the float passes run on whole vectors however few
+// are left, then settled (`flush`, once kChunk are gathered, and at the end): the first float
+// pass (planes, witness points), then, sorted by J, the float pass on the combinations, and the
+// cascade for what both leave. verdicts[i] receives box i's verdict.
+class OpenBoxes {
+ public:
+  OpenBoxes(const ExactCertifiedFrustum& f, Visibility* verdicts) noexcept
+      : f_(f), verdicts_(verdicts), seed_(witness_seed(f)) {}
+
+  const glm::vec3& seed() const noexcept { return seed_; }
+
+  // Box j of `part` (bit j of `open`) is box base + j of the array.
+  void add(const AabbSoa& part, std::size_t base, const std::uint64_t* open) {
+    if (n_ > 0 && base + part.count - first_ > 0x7fffffffu) flush();  // positions kept in 32 bits
+    if (n_ == 0) first_ = base;
+    const float* src[6] = {part.min_x, part.min_y, part.min_z, part.max_x, part.max_y, part.max_z};
+    for (std::size_t w = 0; w < bitset_words(part.count); ++w)
+      for (std::uint64_t b = open[w]; b != 0; b &= b - 1) {
+        const std::size_t j = w * 64 + std::size_t(__builtin_ctzll(b));
+        index_[n_] = std::uint32_t(base - first_ + j);
+        for (int k = 0; k < 6; ++k) box_[k][n_] = src[k][j];
+        if (++n_ == kChunk) flush();
+      }
+  }
+
+  void flush() {
+    if (n_ == 0) return;
+    if (f_.float_planes == 0) {  // no float pass: the cascade
+      for (std::size_t q = 0; q < n_; ++q) verdicts_[first_ + index_[q]] = cascade(box_, q);
+      n_ = 0;
+      return;
+    }
+    exact_float_first(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, seed_, first_pass_);
+    const FloatFirstResult& r = first_pass_;
+    const std::size_t words = bitset_words(n_);
+    settle_bits(r.outside, words, Visibility::outside);
+    settle_bits(r.inside, words, Visibility::inside);
+    settle_bits(r.meets, words, Visibility::intersecting);
+    // The open ones sorted by J: boxes with the same planes left side by side (the combinations
+    // kernel evaluates the combinations within the union of a vector's J).
+    std::size_t start[65] = {};
+    for (std::size_t w = 0; w < words; ++w)
+      for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) ++start[r.J[w * 64 + std::size_t(__builtin_ctzll(b))] + 1];
+    for (std::size_t j = 0; j < 64; ++j) start[j + 1] += start[j];
+    const std::size_t m = start[64];
+    std::uint64_t ok[kChunk / 64] = {}, out[kChunk / 64], met[kChunk / 64];
+    for (std::size_t w = 0; w < words; ++w)
+      for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) {
+        const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b)), s = start[r.J[q]]++;
+        rest_[s] = index_[q];
+        J_[s] = r.J[q];
+        ok[s / 64] |= (r.meet_ok[w] >> (q % 64) & 1u) << (s % 64);
+        for (int k = 0; k < 6; ++k) left_[k][s] = box_[k][q];
+      }
+    for (std::size_t s = m; s < bitset_words(m) * 64; ++s) {  // whole words for the kernel to read
+      J_[s] = 0;
+      for (int k = 0; k < 6; ++k) left_[k][s] = 0.0f;
+    }
+    if (m > 0)
+      exact_float_combinations(f_, AabbSoa{left_[0], left_[1], left_[2], left_[3], left_[4], left_[5], m}, J_, ok, out,
+                               met);
+    for (std::size_t s = 0; s < m; ++s) {
+      const std::uint64_t bit = std::uint64_t{1} << (s % 64);
+      verdicts_[first_ + rest_[s]] = (out[s / 64] & bit)   ? Visibility::outside
+                                     : (met[s / 64] & bit) ? Visibility::intersecting
+                                                           : cascade(left_, s);
+    }
+    n_ = 0;
+  }
+
+ private:
+  using Boxes = float[6][kChunk];
+  Visibility cascade(const Boxes& a, std::size_t q) const {
+    return exact_certified_aabb(f_, Aabb{{a[0][q], a[1][q], a[2][q]}, {a[3][q], a[4][q], a[5][q]}});
+  }
+  void settle_bits(const std::uint64_t* bits, std::size_t words, Visibility v) {
+    for (std::size_t w = 0; w < words; ++w)
+      for (std::uint64_t b = bits[w]; b != 0; b &= b - 1) verdicts_[first_ + index_[w * 64 + std::size_t(__builtin_ctzll(b))]] = v;
+  }
+
+  const ExactCertifiedFrustum& f_;
+  Visibility* verdicts_;
+  glm::vec3 seed_;
+  std::size_t n_ = 0, first_ = 0;
+  std::uint32_t index_[kChunk], rest_[kChunk], J_[kChunk];
+  FloatFirstResult first_pass_;
+  alignas(64) Boxes box_, left_;
+};
+
+// One chunk (at most kChunk boxes, the array's boxes base ..): the certified batch's verdicts;
+// where it leaves more than a quarter of the chunk, the witness pass on them in place (cheaper
+// than gathering them all); what remains into `open`.
+void aabb_chunk(const ExactCertifiedFrustum& f, const AabbSoa& part, std::size_t base, Visibility* verdicts,
+                OpenBoxes& open) {
+  const std::size_t words = bitset_words(part.count);
+  std::uint64_t vis[kChunk / 64], ins[kChunk / 64], todo[kChunk / 64], meets[kChunk / 64];
+  certified_cull_aabbs_bitset(f.certified, part, vis, ins);
+  std::size_t left = 0;
+  for (std::size_t w = 0; w < words; ++w) todo[w] = vis[w] & ~ins[w], left += std::size_t(__builtin_popcountll(todo[w]));
+  if (4 * left > part.count) {
+    certified_meets_aabbs_bitset(f.certified, part, open.seed(), todo, meets);
+    for (std::size_t w = 0; w < words; ++w) todo[w] &= ~meets[w];
+  }
+  for (std::size_t j = 0; j < part.count; ++j) verdicts[base + j] = detail::bit_verdict(vis, ins, j);  // open: at flush
+  open.add(part, base, todo);
+}
+
 }  // namespace
 
 void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes, Visibility* verdicts) {
-  std::uint64_t vis[kChunk / 64], ins[kChunk / 64], todo[kChunk / 64], meets[kChunk / 64];
-  // The seed of the witness points: the frame's interior point, rounded to float (any point is
-  // sound; the clamped point is certified, not the seed).
-  const glm::vec3 seed = f.has_interior ? glm::vec3(float(f.interior[0]), float(f.interior[1]), float(f.interior[2]))
-                                        : glm::vec3(0.0f);
+  OpenBoxes open(f, verdicts);
   for (std::size_t i0 = 0; i0 < boxes.count; i0 += kChunk) {
     const std::size_t m = std::min(kChunk, boxes.count - i0);
-    const AabbSoa part{boxes.min_x + i0, boxes.min_y + i0, boxes.min_z + i0,
-                       boxes.max_x + i0, boxes.max_y + i0, boxes.max_z + i0, m};
-    certified_cull_aabbs_bitset(f.certified, part, vis, ins);
-    const std::size_t words = bitset_words(m);
-    for (std::size_t w = 0; w < words; ++w) todo[w] = vis[w] & ~ins[w];
-    certified_meets_aabbs_bitset(f.certified, part, seed, todo, meets);
-    settle(vis, ins, meets, m, verdicts + i0, [&](std::size_t j) {
-      return exact_certified_aabb(f, Aabb{{part.min_x[j], part.min_y[j], part.min_z[j]}, {part.max_x[j], part.max_y[j], part.max_z[j]}});
-    });
+    aabb_chunk(f, AabbSoa{boxes.min_x + i0, boxes.min_y + i0, boxes.min_z + i0, boxes.max_x + i0, boxes.max_y + i0, boxes.max_z + i0, m},
+               i0, verdicts, open);
   }
+  open.flush();
 }
 
 void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& spheres, Visibility* verdicts) {
@@ -70,8 +175,10 @@ void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& sp
 
 void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, std::size_t n, Visibility* verdicts) {
   alignas(64) float a[6][kChunk];
+  OpenBoxes open(f, verdicts);
   for (std::size_t i0 = 0; i0 < n; i0 += kChunk)
-    exact_certified_aabbs(f, detail::aabb_soa(boxes + i0, std::min(kChunk, n - i0), a), verdicts + i0);
+    aabb_chunk(f, detail::aabb_soa(boxes + i0, std::min(kChunk, n - i0), a), i0, verdicts, open);
+  open.flush();
 }
 
 void exact_certified_spheres(const ExactCertifiedFrustum& f, const Sphere* spheres, std::size_t n, Visibility* verdicts) {

@@ -154,6 +154,45 @@
 // What neither proves (a volume within a few units in the last place of touching, or touching)
 // goes to the exact stage, with J.
 //
+// ---- The AABB array form's float pass (batch_combinations.cpp) --------------------------------
+// What the SIMD batch and its witness pass leave is tested again in float, several boxes per
+// instruction, on the planes and the frame's combinations: stage 1 and the combinations above,
+// with float margins of their own. Item q is a plane, (C, D) = (n'_j, d'_j), or a combination,
+// (C, D) = sum lambda (n', d'), in double, and (C*, D*) what it stands for: the exact scaled plane
+// (sum_i |C_i - C*_i| <= k1 = u A'_j, |D - D*| <= k0 = u |d'_j|: one rounding per coefficient);
+// for a combination, both the exact planes combined with these multipliers (any lambda >= 0 gives
+// a half-space holding the frustum: for outside) and the exact vertex of the dual (for meets);
+// the k1, k0 of "AABBs, the frame's combinations" bound both (their multiplier and coefficient
+// terms alone). Each item is scaled by 2^-e (exact in double, the same half-space; e = ilogb A_C,
+// raised so that |D| 2^-e <= 2^101) and rounded to float: Cf_i within u_f |C_i| + 2^-150 of C_i
+// (u_f = 2^-24; 2^-150 for a subnormal), so e1 = k1 + sum_i (u_f |C_i| + 2^-150) bounds
+// sum |Cf_i - C*_i| and e0 = k0 + u_f |D| + 2^-150 bounds |Df - D*|.
+//  At a box B (float corners, coordinates at most X in magnitude) let p maximise Cf.x over B (the
+// vertex chosen by the signs of Cf) and p* maximise C*.x. Where the signs agree p_i = p*_i, where
+// they differ Cf_i p_i >= Cf_i p*_i; so max_B (C*.x + D*) = C*.p* + D* <= Cf.p + Df + e1 X + e0,
+// and >= C*.p + D* >= Cf.p + Df - e1 X - e0. The same holds for the minimum at the vertex q that
+// minimises Cf.x. The value v = fl(Cf.p + Df), in any order, fused or not, is within
+// gamma_4 (A_f X + |Df|) + 3 2^-150 of Cf.p + Df (A_f = sum |Cf_i|; gamma_4 < 4.0001 u_f; three
+// products may underflow). The threshold theta = fl(t X + delta) (one or two roundings, each a
+// factor of at least 1 - u_f or an error of 2^-150), with
+//    t >= (e1 + 4.0001 u_f A_f)(1 + 2^-20),  delta >= (e0 + 4.0001 u_f |Df|)(1 + 2^-20) + 2^-126,
+// both rounded up to float (2^-126 takes every underflow term), bounds the whole error: v < -theta
+// at p proves max_B < 0 (the box outside the half-space, hence the frustum), v >= theta at p proves
+// max_B > 0, and at q, v >= theta proves the half-space holds the box and v < -theta that a vertex
+// is strictly outside it. With Cf, Df, t, delta finite and X <= x_safe = min_q (2^120 - |Df| -
+// delta) / (A_f + t), nothing overflows; a NaN coordinate fails every comparison.
+//  The planes fold delta into two offsets instead, as the certified tests do: d_out >= Df + delta
+// and d_in <= Df - delta (rounded outwards to float; delta (1 - gamma_4) still covers e0 and the
+// evaluation's gamma_4 |d_out|, by the factor 1 + 2^-20), and share one T = fl(t X) with t the
+// largest of the planes' t: fl(Cf.p + d_out) < -T proves max_B < 0 at p, fl(Cf.q + d_in) >= T
+// proves min_B > 0 at q, and likewise at any float point x of the box with X = max |x_i| (a
+// point is a box).
+//  Per box: outside when an item proves it; inside when every plane holds the box; intersecting
+// when the list is complete (comb_complete, and every plane and combination has its float item),
+// every plane not proved to hold the box (J) has the box's p-vertex proved inside, every
+// combination within J is proved positive (the argument for the combinations above), and some
+// plane has a vertex strictly outside (so the box is not inside).
+//
 // ---- Stage 3: exact (exact_decide.cpp) --------------------------------------------------------
 // Whether each plane of J holds the volume, and whether the volume meets P_J, exactly.
 #include "cullproof/exact_certified.hpp"
@@ -476,6 +515,7 @@ void build_combinations(ExactCertifiedFrustum& f) {
     c.k1 = up(2.0 * ea + M::kCombination * kU * sa) + kUnderflow;
     c.k0 = up(2.0 * ed + M::kCombination * kU * sd) + kUnderflow;
     support[f.comb_count] = mask;
+    c.planes = mask;
     f.comb[std::size_t(f.comb_count++)] = c;
   };
   auto normal = [&](int j, int i) {
@@ -525,6 +565,68 @@ void build_combinations(ExactCertifiedFrustum& f) {
       if ((support[q] & ~J) == 0) words[std::size_t(q / 64)] |= std::uint64_t(1) << (q % 64);
   }
   f.comb_complete = complete;
+}
+
+// The planes and the frame's combinations in float, for the AABB array form (see "The AABB array
+// form's float pass"): item j is plane j, item count + q combination q. An item that does not fit
+// a float is made inert (zero, with an infinite threshold: it proves nothing) and leaves the list
+// incomplete; so does a plane, for which the pass is then skipped (J needs every plane).
+void build_float_items(ExactCertifiedFrustum& f) {
+  using F = FloatPassMargins;
+  constexpr double uf = F::u, tiny = F::kSubnormal, widen = 1.0 + F::kWiden, room = F::kRoom;
+  double x_safe = std::numeric_limits<float>::max();
+  bool complete = f.comb_complete;
+  f.float_count = 0;
+  auto add = [&](double cx, double cy, double cz, double d, double k1, double k0, std::uint32_t planes) {
+    const double a = std::abs(cx) + std::abs(cy) + std::abs(cz);
+    int e = a > 0.0 ? std::ilogb(a) : d != 0.0 ? std::ilogb(std::abs(d)) - 100 : 0;
+    if (d != 0.0) e = std::max(e, std::ilogb(std::abs(d)) - 100);
+    const double c[3] = {std::ldexp(cx, -e), std::ldexp(cy, -e), std::ldexp(cz, -e)}, ds = std::ldexp(d, -e);
+    ExactCertifiedFrustum::FloatItem q;
+    q.cx = float(c[0]), q.cy = float(c[1]), q.cz = float(c[2]), q.d = float(ds);
+    q.planes = planes;
+    q.max = {std::uint8_t(q.cx >= 0.0f), std::uint8_t(q.cy >= 0.0f), std::uint8_t(q.cz >= 0.0f)};
+    std::size_t m = 0;  // the planes in it (one to three), the last one repeated
+    for (int k = 0; k < 6 && m < 3; ++k)
+      if (planes >> k & 1u) q.member[m++] = std::uint8_t(k);
+    for (std::size_t i = m; i < 3; ++i) q.member[i] = q.member[m - 1];
+    double e1 = up(std::ldexp(k1, -e));
+    for (int i = 0; i < 3; ++i) e1 += uf * std::abs(c[i]) + tiny;
+    const double af = double(std::abs(q.cx)) + double(std::abs(q.cy)) + double(std::abs(q.cz));
+    const double e0 = up(std::ldexp(k0, -e)) + uf * std::abs(ds) + tiny;
+    q.t = float_at_least(up((e1 + F::kEval * uf * af) * widen));
+    q.delta = float_at_least(up((e0 + F::kEval * uf * std::abs(double(q.d))) * widen + F::kUnderflow));
+    q.d_out = float_at_least(double(q.d) + double(q.delta));
+    q.d_in = float_at_most(double(q.d) - double(q.delta));
+    const bool finite = std::isfinite(q.cx) && std::isfinite(q.cy) && std::isfinite(q.cz) && std::isfinite(q.d) &&
+                        std::isfinite(q.t) && std::isfinite(q.delta);
+    if (finite) {
+      x_safe = std::min(x_safe, (room - std::abs(double(q.d)) - double(q.delta)) / (af + double(q.t)));
+    } else {
+      q.cx = q.cy = q.cz = q.d = 0.0f;
+      q.t = q.delta = std::numeric_limits<float>::infinity();
+      q.d_out = std::numeric_limits<float>::infinity(), q.d_in = -q.d_out;
+    }
+    f.float_item[std::size_t(f.float_count++)] = q;
+    return finite;
+  };
+  bool planes_fit = true;
+  for (int j = 0; j < f.count; ++j) {
+    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+    planes_fit = add(p.nx, p.ny, p.nz, p.d, up(kU * p.a), up(kU * p.ad), 1u << j) && planes_fit;
+  }
+  for (int q = 0; q < f.comb_count; ++q) {
+    const ExactCertifiedFrustum::Combination& c = f.comb[std::size_t(q)];
+    complete = add(c.cx, c.cy, c.cz, c.d, c.k1, c.k0, c.planes) && complete;
+  }
+  f.float_planes = planes_fit ? f.count : 0;
+  f.float_t = 0.0f;
+  for (int j = 0; j < f.float_planes; ++j) f.float_t = std::max(f.float_t, f.float_item[std::size_t(j)].t);
+  f.float_no_combination = 0;
+  for (std::size_t J = 0; J < 64; ++J)
+    f.float_no_combination |= std::uint64_t((f.comb_in[J][0] | f.comb_in[J][1]) == 0) << J;
+  f.float_complete = complete && planes_fit;
+  f.float_x_safe = x_safe > 0.0 ? float_at_most(x_safe) : 0.0f;
 }
 
 }  // namespace
@@ -591,6 +693,7 @@ ExactCertifiedFrustum prepare_exact_certified(const CaseFrustum& cf) {
   f.anchor_y = f.anchor_z = f.anchor_x;
   if (!f.empty) find_interior(f);
   if (!f.empty) build_combinations(f);
+  if (!f.empty) build_float_items(f);
   return f;
 }
 

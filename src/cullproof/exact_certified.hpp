@@ -81,6 +81,25 @@ struct ExactMargins {
   static constexpr double kSlack = 0x1p-40;
 };
 
+/// The AABB array form's float pass (binary32, u = 2^-24; exact_certified.cpp, "The AABB array
+/// form's float pass"): an item's threshold for a box of magnitude X is fl(t X + delta) with
+/// t >= (e1 + kEval u A_f)(1 + kWiden) and delta >= (e0 + kEval u |Df|)(1 + kWiden) + kUnderflow;
+/// tests/certified/test_exact_certified.cpp (FloatPassMargins.*) re-derives each from u.
+struct FloatPassMargins {
+  static constexpr double u = 0x1p-24;
+  /// gamma_4 / u: a value fl(C.x + D), four terms, any order, fused or not.
+  static constexpr double kEval = 4.0001;
+  /// Relative room for the threshold's own roundings (at most two, each 1 - u) and, with the
+  /// planes' offsets d_out = Df + delta, for the evaluation's error on delta itself (gamma_4).
+  static constexpr double kWiden = 0x1p-20;
+  /// A coefficient rounded to a subnormal float errs by up to this much absolutely.
+  static constexpr double kSubnormal = 0x1p-150;
+  /// Every absolute underflow of the evaluation (three products) and of the threshold.
+  static constexpr double kUnderflow = 0x1p-126;
+  /// Boxes with (A_f + t) X + |Df| + delta above this are not decided (no partial sum overflows).
+  static constexpr double kRoom = 0x1p120;
+};
+
 /// One active plane of the cascade, scaled by a power of two 2^-e (exact) so that its bound sum
 /// A' = sum |n'_i| lies in [1, 2).
 struct ExactCertifiedPlane {
@@ -134,6 +153,7 @@ struct ExactCertifiedFrustum {
   struct Combination {
     double cx = 0, cy = 0, cz = 0, d = 0;
     double k1 = 0, k0 = 0;
+    std::uint32_t planes = 0;  ///< bit j: plane[j] is combined
   };
   static constexpr int kCombinations = 128;  ///< at least 15 pairs x 3 axes + 20 triples x 3
   std::array<Combination, kCombinations> comb{};
@@ -144,6 +164,28 @@ struct ExactCertifiedFrustum {
   /// (has_interior, and no multiplier of uncertain sign): then an AABB that every combination and
   /// every plane of J proves on its inner side meets the frustum.
   bool comb_complete = false;
+  /// The AABB array form's float pass (exact_certified.cpp, "The AABB array form's float pass"):
+  /// the planes (items 0 .. count - 1, in `plane` order) and the combinations (item count + q is
+  /// comb[q]; float_count in all), each scaled
+  /// by a power of two and rounded to float, with its threshold theta = fl(t X + delta) for a box
+  /// of magnitude X <= float_x_safe: a value beyond -theta or theta at a vertex proves its sign.
+  struct FloatItem {
+    float cx = 0, cy = 0, cz = 0, d = 0;
+    float t = 0, delta = 0;
+    float d_out = 0, d_in = 0;           ///< d + delta rounded up, d - delta rounded down (planes)
+    std::uint32_t planes = 0;            ///< bit j: plane[j] is in it
+    std::array<std::uint8_t, 3> max{};   ///< 1 where c_i >= 0: the p-vertex takes max_i
+    std::array<std::uint8_t, 3> member{};  ///< its planes (a pair repeats one), for combinations
+  };
+  std::array<FloatItem, 6 + kCombinations> float_item{};
+  int float_planes = 0;  ///< count, or 0 when a plane does not fit a float (no float pass then)
+  int float_count = 0;
+  float float_x_safe = 0.0f;
+  float float_t = 0.0f;  ///< the largest t of the planes' items: T = fl(float_t X) with d_out, d_in
+  /// Bit J set where no combination lies within the set of planes J (comb_in[J] empty).
+  std::uint64_t float_no_combination = 0;
+  /// comb_complete, and every plane and combination has its item: the pass may prove `intersecting`.
+  bool float_complete = false;
   /// The float certified frustum (src/certified/certified.cpp) for the SIMD batch's first stage.
   CertifiedFrustum certified;
 };

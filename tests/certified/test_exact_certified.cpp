@@ -8,8 +8,10 @@
 #include "cullproof/frustum_build.hpp"
 #include "cullproof/methods.hpp"
 
+#include <boost/multiprecision/cpp_int.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <limits>
@@ -424,3 +426,132 @@ TEST(ExactCertifiedMargins, TheSlackCoversTheBoundsOwnRounding) {
   // A bound computed with at most 2^10 roundings errs by at most (1 + u)^1024 - 1 < kSlack.
   EXPECT_LT(std::pow(1 + u, 1024.0L) - 1, L(ExactMargins::kSlack));
 }
+
+// ---- The AABB array form's float pass ----------------------------------------------------------
+
+namespace {
+
+TEST(FloatPassMargins, FromTheErrorModel) {
+  using F = FloatPassMargins;
+  const L uf = std::ldexp(1.0L, -24);
+  const auto g = [&](int k) { return k * uf / (1 - k * uf); };
+  EXPECT_EQ(L(F::u), uf);
+  // A value fl(C.x + D): three products and the offset, gamma_4 in any order, fused or not.
+  EXPECT_GE(L(F::kEval) * uf, g(4));
+  // The threshold fl(fl(t X) + delta): two roundings, each a factor of at least 1 - u.
+  EXPECT_GE((1 + L(F::kWiden)) * (1 - uf) * (1 - uf), 1.0L);
+  // The planes' offsets d_out = Df + delta: the evaluation errs by gamma_4 |d_out| <= gamma_4
+  // (|Df| + delta), so delta (1 - gamma_4) must still cover e0 + gamma_4 |Df|.
+  EXPECT_GE((1 + L(F::kWiden)) * (1 - g(4)), 1.0L);
+  // Absolute underflow: three products and the threshold's product, each at most 2^-150 (half
+  // the smallest subnormal), rounded up with the rest.
+  EXPECT_GE(L(F::kUnderflow), 4 * std::ldexp(1.0L, -150) * (1 + L(F::kWiden)));
+  EXPECT_EQ(L(F::kSubnormal), std::ldexp(1.0L, -150));  // rounding to float: u |x| plus this
+  // Below kRoom, no partial sum of at most four terms (each grown by at most (1 + u)^4) reaches FLT_MAX.
+  EXPECT_LT(L(F::kRoom) * std::pow(1 + uf, 8.0L), L(FLT_MAX));
+}
+
+// An exact dyadic number m 2^e (every float, double, sum and product of them is one).
+struct Q {
+  boost::multiprecision::cpp_int m;
+  int e = 0;
+  Q() = default;
+  explicit Q(double x) {
+    int ex = 0;
+    const double fr = std::frexp(x, &ex);
+    m = static_cast<long long>(std::ldexp(fr, 53));
+    e = ex - 53;
+  }
+  friend Q operator+(const Q& a, const Q& b) {
+    Q r;
+    r.e = std::min(a.e, b.e);
+    r.m = (a.m << (a.e - r.e)) + (b.m << (b.e - r.e));
+    return r;
+  }
+  friend Q operator-(const Q& a) { Q r = a; r.m = -r.m; return r; }
+  friend Q operator-(const Q& a, const Q& b) { return a + -b; }
+  friend Q operator*(const Q& a, const Q& b) { Q r; r.m = a.m * b.m; r.e = a.e + b.e; return r; }
+  friend bool operator<=(const Q& a, const Q& b) { return (b - a).m >= 0; }
+  friend bool operator>=(const Q& a, const Q& b) { return b <= a; }
+  friend Q abs(const Q& a) { Q r = a; if (r.m < 0) r.m = -r.m; return r; }
+  friend std::ostream& operator<<(std::ostream& os, const Q& a) { return os << std::ldexp(a.m.convert_to<double>(), a.e); }
+};
+
+// Each float item against the double combination it was rounded from, (C, D) scaled by the
+// item's power of two r: at the box's vertex the kernel takes, the exact r (C.p + D) and the
+// float value (fused and unfused) differ by at most the threshold less the double part
+// r (k1 X + k0), on boxes drawn near the item's plane at magnitudes from 1 to 2^20.
+TEST(ExactCertifiedFloatPass, EachThresholdBoundsItsItemsRounding) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  Frustum far_off = integer_frustum().planes;  // the frustum moved 2^14 along x: large |d|
+  for (int k = 0; k < 6; ++k) far_off[k].d -= far_off[k].n.x * 16384.0f;
+  const CaseFrustum frusta[] = {integer_frustum(), frustum_spec(far_off),
+                                frustum_spec(frustum_from_matrix(off_axis_projection(-0.7f, 1.3f, -1.1f, 0.4f, 0.5f, 700.0f)))};
+  int checked = 0;
+  for (const CaseFrustum& cf : frusta) {
+    const ExactCertifiedFrustum f = prepare_exact_certified(cf);
+    ASSERT_GT(f.float_planes, 0);
+    for (int q = 0; q < f.float_count; ++q) {
+      const ExactCertifiedFrustum::FloatItem& it = f.float_item[std::size_t(q)];
+      if (!std::isfinite(it.t)) continue;
+      double C[3], D, k1, k0;
+      if (q < f.count) {
+        const ExactCertifiedPlane& p = f.plane[std::size_t(q)];
+        C[0] = p.nx, C[1] = p.ny, C[2] = p.nz, D = p.d;
+        k1 = 0x1p-53 * p.a * (1 + 0x1p-40), k0 = 0x1p-53 * p.ad * (1 + 0x1p-40);
+      } else {
+        const ExactCertifiedFrustum::Combination& c = f.comb[std::size_t(q - f.count)];
+        C[0] = c.cx, C[1] = c.cy, C[2] = c.cz, D = c.d, k1 = c.k1, k0 = c.k0;
+      }
+      const float Cf[3] = {it.cx, it.cy, it.cz};
+      int big = 0;
+      for (int i = 1; i < 3; ++i)
+        if (std::abs(C[i]) > std::abs(C[big])) big = i;
+      if (C[big] == 0.0) continue;
+      const double r = std::ldexp(1.0, std::ilogb(double(Cf[big]) / C[big] * (1 + 0x1p-20)));
+      for (int trial = 0; trial < 400; ++trial) {
+        // A point on the plane C.x + D = 0 (solved for the largest component), moved a little,
+        // and a box around it of random extent.
+        const float scale = std::ldexp(1.0f, int(rng() % 21));
+        double x[3] = {unit(rng) * scale, unit(rng) * scale, unit(rng) * scale};
+        x[big] = -(D + C[(big + 1) % 3] * x[(big + 1) % 3] + C[(big + 2) % 3] * x[(big + 2) % 3]) / C[big];
+        Aabb b;
+        for (int i = 0; i < 3; ++i) {
+          const float e = std::ldexp(std::abs(unit(rng)), -int(rng() % 30)) * scale;
+          b.min[i] = float(x[i]) - e, b.max[i] = float(x[i]) + e;
+        }
+        const float X = std::max({std::abs(b.min.x), std::abs(b.min.y), std::abs(b.min.z), std::abs(b.max.x),
+                                  std::abs(b.max.y), std::abs(b.max.z)});
+        if (!(X <= f.float_x_safe)) continue;
+        for (const bool top : {true, false}) {  // the vertex maximising C.x, and the one minimising it
+          float p[3];
+          for (int i = 0; i < 3; ++i) p[i] = (it.max[std::size_t(i)] != 0) == top ? b.max[i] : b.min[i];
+          Q exact = Q(D);
+          for (int i = 0; i < 3; ++i) exact = exact + Q(C[i]) * Q(double(p[i]));
+          exact = exact * Q(r);
+          const Q room = Q(r) * (Q(k1) * Q(double(X)) + Q(k0));
+          for (const float off : {it.d, it.d_out, it.d_in}) {
+            const bool plane_offset = off != it.d;
+            if (plane_offset && q >= f.count) continue;
+            // theta for d; T with the offsets d_out / d_in (whose delta is then in the offset).
+            const Q theta = plane_offset ? Q(double(f.float_t * X)) : Q(double(std::fma(it.t, X, it.delta)));
+            const float fused = std::fma(Cf[2], p[2], std::fma(Cf[1], p[1], std::fma(Cf[0], p[0], off)));
+            const float plain = ((Cf[0] * p[0] + Cf[1] * p[1]) + Cf[2] * p[2]) + off;
+            for (const float v : {fused, plain}) {
+              // With d: |v - exact| <= theta - room. With d_out: v + T >= exact + room; d_in:
+              // v - T <= exact - room (each proves one direction).
+              if (off == it.d) EXPECT_LE(abs(Q(double(v)) - exact), theta - room) << "item " << q << " trial " << trial;
+              else if (off == it.d_out) EXPECT_GE(Q(double(v)) + theta, exact + room) << "item " << q << " trial " << trial;
+              else EXPECT_LE(Q(double(v)) - theta, exact - room) << "item " << q << " trial " << trial;
+              ++checked;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 100000);
+}
+
+}  // namespace

@@ -4,6 +4,7 @@
 // exact), points as flat boxes, OBBs and balls of radius 0; AABBs and spheres through the batch
 // forms as well. Built twice: as is, and (test_exact_certified_fma) with the float stages compiled
 // with -mfma -ffp-contract=fast, so that the bounds are checked with contraction too.
+#include "batch_combinations.hpp"
 #include "cullproof/arbitrary.hpp"
 #include "cullproof/certified_batch.hpp"
 #include "cullproof/exact_certified.hpp"
@@ -59,6 +60,27 @@ bool simd_witness(const ExactCertifiedFrustum& f, const Aabb& b, const glm::vec3
   return meets != 0;
 }
 
+// The AABB array form's float passes on one box (the only lane of a word): whether they decide
+// it, and the verdict. The frame's prepared data is used as is: with prepare_exact_certified
+// compiled for FMA (the fma build), its float items are the fused computation's.
+bool float_pass(const ExactCertifiedFrustum& f, const Aabb& b, const glm::vec3& seed, Visibility& v) {
+  if (f.float_planes == 0) return false;
+  alignas(64) float a[6][64] = {};
+  for (int k = 0; k < 3; ++k) a[k][0] = b.min[k], a[3 + k][0] = b.max[k];
+  const AabbSoa one{a[0], a[1], a[2], a[3], a[4], a[5], 1};
+  FloatFirstResult r;
+  exact_float_first(f, one, seed, r);
+  if (r.outside[0] & 1u) return v = Visibility::outside, true;
+  if (r.inside[0] & 1u) return v = Visibility::inside, true;
+  if (r.meets[0] & 1u) return v = Visibility::intersecting, true;
+  std::uint32_t J[64] = {r.J[0]};
+  std::uint64_t out = 0, met = 0;
+  exact_float_combinations(f, one, J, r.meet_ok, &out, &met);
+  if (out & 1u) return v = Visibility::outside, true;
+  if (met & 1u) return v = Visibility::intersecting, true;
+  return false;
+}
+
 // The SIMD witness pass of the sphere batch on one sphere: whether it proves it intersecting.
 bool simd_witness(const ExactCertifiedFrustum& f, const Sphere& s) {
   const SphereSoa one{&s.center.x, &s.center.y, &s.center.z, &s.radius, 1};
@@ -95,9 +117,15 @@ TEST_P(ExactCertifiedOnEveryFamily, EqualsTheOracle) {
       const auto t = *rc::gen::container<std::vector<float>>(3, rc::gen::elementOf(std::vector<float>{-1.0f, 0.0f, 0.25f, 0.5f, 1.0f, 3.0f}));
       const glm::vec3 seeds[2] = {glm::vec3(float(f.interior[0]), float(f.interior[1]), float(f.interior[2])),
                                   a->min + glm::vec3(t[0], t[1], t[2]) * (a->max - a->min)};
-      for (const glm::vec3& seed : seeds)
-        if (is_valid(Point{seed}) && simd_witness(f, *a, seed) && truth != Visibility::intersecting)
+      for (const glm::vec3& seed : seeds) {
+        if (!is_valid(Point{seed})) continue;
+        if (simd_witness(f, *a, seed) && truth != Visibility::intersecting)
           RC_FAIL("the SIMD witness pass proved a box intersecting whose truth is " + std::string(to_string(truth)));
+        Visibility v;
+        if (float_pass(f, *a, seed, v) && v != truth)
+          RC_FAIL("the float pass proved a box " + std::string(to_string(v)) + " whose truth is " +
+                  std::string(to_string(truth)));
+      }
       Obb o;
       if (exact_obb(*a, o)) expect("obb-exact-certified (the box as an OBB)", exact_certified_obb(f, o));
     } else if (const Obb* o = std::get_if<Obb>(&g.volume)) {
@@ -176,6 +204,11 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
       const Visibility w = batch("aabb-batch-exact-certified", g.frustum, *a);
       if (w != truth)
         RC_FAIL("aabb-batch-exact-certified says " + std::string(to_string(w)) + ", the truth is " +
+                std::string(to_string(truth)) + " (k = " + std::to_string(k) + ")");
+      Visibility fp;
+      const glm::vec3 seed(float(f.interior[0]), float(f.interior[1]), float(f.interior[2]));
+      if (is_valid(Point{seed}) && float_pass(f, *a, seed, fp) && fp != truth)
+        RC_FAIL("the float pass proved a box " + std::string(to_string(fp)) + ", the truth is " +
                 std::string(to_string(truth)) + " (k = " + std::to_string(k) + ")");
       v = exact_certified_aabb(f, *a), method = "aabb-exact-certified";
     }

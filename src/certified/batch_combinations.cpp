@@ -1,0 +1,299 @@
+// The AABB array form's float pass (Highway, runtime dispatch): boxes tested in float, several
+// per instruction, on the exact frustum's planes and the frame's combinations of planes, each
+// with its own certified threshold (the derivation is src/certified/exact_certified.cpp, "The
+// AABB array form's float pass"). Every bit it sets is a proof; a box it cannot decide is left to
+// the scalar cascade.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "batch_combinations.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include "batch_util-inl.h"
+
+#include "batch_combinations.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+HWY_BEFORE_NAMESPACE();
+namespace cullproof {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// The low k bits (k <= 64).
+HWY_INLINE std::uint64_t lanes(std::size_t k) { return k >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << k) - 1; }
+
+// The magnitude X of the boxes at i (the largest |coordinate|; a NaN sorts high) and their
+// corners: box[0] the minima, box[1] the maxima.
+template <class D>
+HWY_INLINE hn::Vec<D> load_box(D d, const float* const* lo, const float* const* hi, std::size_t i,
+                               hn::Vec<D> (&box)[2][3]) {
+  const hn::RebindToUnsigned<D> du;
+  auto xb = hn::Zero(du);
+  const auto abs_mask = hn::Set(du, 0x7fffffffu);
+  for (int k = 0; k < 3; ++k) {
+    box[0][k] = hn::LoadU(d, lo[k] + i);
+    box[1][k] = hn::LoadU(d, hi[k] + i);
+    xb = hn::Max(xb, hn::Max(hn::And(hn::BitCast(du, box[0][k]), abs_mask), hn::And(hn::BitCast(du, box[1][k]), abs_mask)));
+  }
+  return hn::BitCast(d, xb);
+}
+
+// An item's value at the vertex of the box that maximises (kMax) or minimises its C.x.
+template <bool kMax, class V>
+HWY_INLINE V item_value(const ExactCertifiedFrustum::FloatItem& it, V cx, V cy, V cz, V dd, const V (&box)[2][3]) {
+  const int sx = kMax ? it.max[0] : 1 - it.max[0], sy = kMax ? it.max[1] : 1 - it.max[1],
+            sz = kMax ? it.max[2] : 1 - it.max[2];
+  return hn::MulAdd(cz, box[sz][2], hn::MulAdd(cy, box[sy][1], hn::MulAdd(cx, box[sx][0], dd)));
+}
+
+// The value of an item at a point x: fl(C.x + D), the multiply-adds in one order (any is sound).
+template <class V>
+HWY_INLINE V point_value(V cx, V cy, V cz, V dd, const V (&x)[3]) {
+  return hn::MulAdd(cz, x[2], hn::MulAdd(cy, x[1], hn::MulAdd(cx, x[0], dd)));
+}
+
+// The planes' items and the arrays of their p- and n-vertex coordinates. The coefficients stay
+// scalars, broadcast where used (an operand of the multiply-add): held as vectors, thirty of them
+// would not fit the registers.
+template <class D>
+struct FirstPlanes {
+  using V = hn::Vec<D>;
+  float cx[6], cy[6], cz[6], d_out[6], d_in[6];
+  const float* pv[6][3];
+  const float* nv[6][3];
+  FirstPlanes(const ExactCertifiedFrustum::FloatItem* items, int planes, const float* const* lo, const float* const* hi) {
+    for (int q = 0; q < planes; ++q) {
+      const ExactCertifiedFrustum::FloatItem& it = items[q];
+      cx[q] = it.cx, cy[q] = it.cy, cz[q] = it.cz, d_out[q] = it.d_out, d_in[q] = it.d_in;
+      for (int k = 0; k < 3; ++k) pv[q][k] = it.max[std::size_t(k)] ? hi[k] : lo[k], nv[q][k] = it.max[std::size_t(k)] ? lo[k] : hi[k];
+    }
+  }
+  // fl(c.x + off) at the vertex whose coordinates are read from x (x[k] + i).
+  V at(int q, const float* const* x, std::size_t i, float off) const {
+    const D d;
+    return hn::MulAdd(hn::Set(d, cz[q]), hn::LoadU(d, x[2] + i),
+                      hn::MulAdd(hn::Set(d, cy[q]), hn::LoadU(d, x[1] + i),
+                                 hn::MulAdd(hn::Set(d, cx[q]), hn::LoadU(d, x[0] + i), hn::Set(d, off))));
+  }
+  V at_point(int q, const V (&x)[3], float off) const {
+    const D d;
+    return point_value(hn::Set(d, cx[q]), hn::Set(d, cy[q]), hn::Set(d, cz[q]), hn::Set(d, off), x);
+  }
+};
+
+// Boxes [0, n) (arrays readable up to n rounded up to N) on the planes, items [0, planes), with
+// the offsets d_out / d_in and T = fl(t X): bits of `outside` (some plane's p-vertex value with
+// d_out below -T), `inside` (every n-vertex value with d_in at least T), `meets` (intersecting,
+// proved), `open` (none of these) and, for an open box, J[i] (bit j: plane j not proved to hold
+// it) and bit i of `meet_ok` (the box meets the frustum if every combination within J is proved
+// positive on it: see exact_certified.cpp). `meets`: the box is not inside (some n-vertex value
+// with d_out below -T: a vertex strictly outside) and either a float point of it, the seed
+// clamped to it or its centre fl(fl(lo + hi) 0.5) (both in the box exactly), is proved strictly
+// inside every plane (a point is a box, with X its own magnitude), or meet_ok holds (every plane
+// of J has the p-vertex strictly inside) and no combination lies within J (bit J of
+// `no_combination`). Boxes with X > x_safe (or a NaN) are open, with meet_ok clear. J is written
+// for every box (0 where not open).
+template <int kCount>
+HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, int count, bool complete, float t,
+                               float x_safe, std::uint64_t no_combination, const float* seed, const float* const* lo,
+                               const float* const* hi, std::size_t n, std::uint32_t* J, std::uint64_t* outside,
+                               std::uint64_t* inside, std::uint64_t* meets, std::uint64_t* open,
+                               std::uint64_t* meet_ok) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  using V = hn::Vec<decltype(d)>;
+  using Mk = hn::Mask<decltype(d)>;
+  const std::size_t N = hn::Lanes(d);
+  const int planes = kCount > 0 ? kCount : count;
+  const FirstPlanes<decltype(d)> pl(items, planes, lo, hi);
+  const V tv = hn::Set(d, t), safe = hn::Set(d, x_safe), half = hn::Set(d, 0.5f), inf = hn::Set(d, HUGE_VALF);
+  const V g[3] = {hn::Set(d, seed[0]), hn::Set(d, seed[1]), hn::Set(d, seed[2])};
+  const auto abs_mask = hn::Set(du, 0x7fffffffu);
+  const Mk none = hn::Lt(tv, tv), all = hn::Eq(tv, tv);
+  for (std::size_t w = 0; w < bitset_words(n); ++w) outside[w] = inside[w] = meet_ok[w] = meets[w] = open[w] = 0;
+  const auto none_lo = hn::Set(du, std::uint32_t(no_combination)), none_hi = hn::Set(du, std::uint32_t(no_combination >> 32));
+  for (std::size_t i = 0; i < n; i += N) {
+    auto xb = hn::Zero(du);
+    for (int k = 0; k < 3; ++k)
+      xb = hn::Max(xb, hn::Max(hn::And(hn::BitCast(du, hn::LoadU(d, lo[k] + i)), abs_mask),
+                               hn::And(hn::BitCast(du, hn::LoadU(d, hi[k] + i)), abs_mask)));
+    const V x = hn::BitCast(d, xb);  // the magnitude X (a NaN sorts high)
+    const V T = hn::Mul(tv, x), nT = hn::Neg(T);
+    V minp = inf, minn = inf;
+    auto jbits = hn::Zero(du);
+#pragma GCC unroll 6
+    for (int q = 0; q < planes; ++q) {
+      minp = hn::Min(minp, pl.at(q, pl.pv[q], i, pl.d_out[q]));
+      const V vn = pl.at(q, pl.nv[q], i, pl.d_in[q]);
+      minn = hn::Min(minn, vn);
+      jbits = hn::Or(jbits, hn::IfThenElseZero(hn::RebindMask(du, hn::Lt(vn, T)), hn::Set(du, 1u << q)));
+    }
+    const Mk ok = hn::Le(x, safe);  // false for NaN
+    const Mk proved_out = hn::And(hn::Lt(minp, nT), ok);
+    const Mk rest = hn::AndNot(proved_out, ok);
+    const Mk proved_in = hn::And(rest, hn::Ge(minn, T));
+    const Mk undecided = hn::AndNot(proved_in, rest);
+    Mk proved_meet = none, may_meet = none;
+    if (!hn::AllFalse(d, undecided)) {
+      // p-vertices inside the planes of J, a vertex strictly outside one.
+      Mk p_in = all;
+      V minq = inf;
+      for (int q = 0; q < planes; ++q) {
+        const Mk in_j = hn::RebindMask(d, hn::TestBit(jbits, hn::Set(du, 1u << q)));
+        p_in = hn::And(p_in, hn::Or(hn::Not(in_j), hn::Ge(pl.at(q, pl.pv[q], i, pl.d_in[q]), T)));
+        minq = hn::Min(minq, pl.at(q, pl.nv[q], i, pl.d_out[q]));
+      }
+      const Mk cut = hn::And(undecided, hn::Lt(minq, nT));  // in the frame, not inside
+      may_meet = complete ? hn::And(cut, p_in) : none;
+      const auto low5 = hn::And(jbits, hn::Set(du, 31u));  // J < 64: bit 5 picks the word
+      const auto shifted = hn::IfThenElse(hn::TestBit(jbits, hn::Set(du, 32u)), none_hi >> low5, none_lo >> low5);
+      const Mk alone = hn::RebindMask(d, hn::TestBit(shifted, hn::Set(du, 1u)));  // no combination within J
+      proved_meet = hn::And(may_meet, alone);
+      const Mk witness = hn::AndNot(proved_meet, cut);
+      if (!hn::AllFalse(d, witness)) {  // the witness points
+        V p[3], c[3];
+        auto xp = hn::Zero(du), xc = hn::Zero(du);
+        for (int k = 0; k < 3; ++k) {
+          const V a = hn::LoadU(d, lo[k] + i), b = hn::LoadU(d, hi[k] + i);
+          p[k] = hn::Min(hn::Max(g[k], a), b);
+          c[k] = hn::Mul(hn::Add(a, b), half);
+          xp = hn::Max(xp, hn::And(hn::BitCast(du, p[k]), abs_mask));
+          xc = hn::Max(xc, hn::And(hn::BitCast(du, c[k]), abs_mask));
+        }
+        const V tp = hn::Mul(tv, hn::BitCast(d, xp)), tc = hn::Mul(tv, hn::BitCast(d, xc));
+        V mp = inf, mc = inf;
+        for (int q = 0; q < planes; ++q) {
+          mp = hn::Min(mp, pl.at_point(q, p, pl.d_in[q]));
+          mc = hn::Min(mc, pl.at_point(q, c, pl.d_in[q]));
+        }
+        proved_meet = hn::Or(proved_meet, hn::And(witness, hn::Or(hn::Ge(mp, tp), hn::Ge(mc, tc))));
+      }
+    }
+    const std::uint64_t keep = lanes(std::min(N, n - i));
+    const std::uint64_t ob = mask_bits(d, proved_out) & keep, ib = mask_bits(d, proved_in) & keep,
+                        mb = mask_bits(d, proved_meet) & keep, open_bits = keep & ~(ob | ib | mb);
+    hn::StoreU(jbits, du, J + i);
+    outside[i / 64] |= ob << (i % 64);
+    inside[i / 64] |= ib << (i % 64);
+    meets[i / 64] |= mb << (i % 64);
+    open[i / 64] |= open_bits << (i % 64);
+    meet_ok[i / 64] |= (mask_bits(d, may_meet) & open_bits) << (i % 64);
+  }
+}
+
+void FloatFirstKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, bool complete, float t, float x_safe,
+                      std::uint64_t no_combination, const float* seed, const float* const* lo, const float* const* hi,
+                      std::size_t n, std::uint32_t* J, std::uint64_t* outside, std::uint64_t* inside,
+                      std::uint64_t* meets, std::uint64_t* open, std::uint64_t* meet_ok) {
+  if (planes == 6)
+    return FloatFirstImpl<6>(items, planes, complete, t, x_safe, no_combination, seed, lo, hi, n, J, outside, inside,
+                             meets, open, meet_ok);
+  FloatFirstImpl<0>(items, planes, complete, t, x_safe, no_combination, seed, lo, hi, n, J, outside, inside, meets,
+                    open, meet_ok);
+}
+
+// Boxes [0, n) with their J (as FloatFirstKernel left them; neighbours best share it) on the
+// combinations within J: bit i of `outside` where one proves box i outside, of `meets` where
+// meet_ok has it and every combination within J is proved positive. Per vector only the
+// combinations within the union of its boxes' J are evaluated (comb_in, in words of 64).
+void FloatCombinationsKernel(const ExactCertifiedFrustum::FloatItem* items, const std::uint64_t* comb_in,
+                             float x_safe, const float* const* lo, const float* const* hi, std::size_t n,
+                             const std::uint32_t* J, const std::uint64_t* meet_ok, std::uint64_t* outside,
+                             std::uint64_t* meets) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  using V = hn::Vec<decltype(d)>;
+  using Mk = hn::Mask<decltype(d)>;
+  const std::size_t N = hn::Lanes(d);
+  const V zero = hn::Zero(d), safe = hn::Set(d, x_safe);
+  const Mk none = hn::Lt(zero, zero);
+  for (std::size_t w = 0; w < bitset_words(n); ++w) outside[w] = meets[w] = 0;
+  for (std::size_t i = 0; i < n; i += N) {
+    std::uint32_t any = 0;
+    for (std::size_t k = 0; k < N && i + k < n; ++k) any |= J[i + k];
+    V box[2][3];
+    const V x = load_box(d, lo, hi, i, box);
+    const auto jv = hn::LoadU(du, J + i);
+    Mk out = none, fail = none;
+    // Only within J does a combination prove anything (outside J, one of its planes holds the
+    // box, and where the others are >= 0 so is it) or need to be positive. When every box of the
+    // vector has the same J (boxes past n have J = 0 and no verdict), each combination
+    // evaluated is within it for all of them.
+    const bool same = hn::AllTrue(d, hn::RebindMask(d, hn::Or(hn::Eq(jv, hn::Set(du, any)), hn::Eq(jv, hn::Zero(du)))));
+    if (same) {
+      for (std::size_t w = 0; w < 2; ++w)
+        for (std::uint64_t bits = comb_in[2 * any + w]; bits != 0; bits &= bits - 1) {
+          const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
+          const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
+          const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
+          const V vp = item_value<true>(it, cx, cy, cz, dd, box);
+          out = hn::Or(out, hn::Lt(vp, hn::Neg(theta)));
+          fail = hn::Or(fail, hn::Lt(vp, theta));
+        }
+    } else {
+      Mk not_held[6];
+      for (int j = 0; j < 6; ++j) not_held[j] = hn::RebindMask(d, hn::TestBit(jv, hn::Set(du, 1u << j)));
+      for (std::size_t w = 0; w < 2; ++w)
+        for (std::uint64_t bits = comb_in[2 * any + w]; bits != 0; bits &= bits - 1) {
+          const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
+          const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
+          const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
+          const V vp = item_value<true>(it, cx, cy, cz, dd, box);
+          const Mk within = hn::And(not_held[it.member[0]], hn::And(not_held[it.member[1]], not_held[it.member[2]]));
+          out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
+          fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
+        }
+    }
+    const Mk meet = hn::Not(fail);
+    const Mk proved_out = hn::And(out, hn::Le(x, safe));  // false for NaN
+    const std::uint64_t keep = lanes(std::min(N, n - i));
+    const std::uint64_t ob = mask_bits(d, proved_out) & keep, mb = mask_bits(d, meet) & keep;
+    const std::uint64_t ok = meet_ok[i / 64] >> (i % 64);
+    outside[i / 64] |= ob << (i % 64);
+    meets[i / 64] |= (mb & ok & ~ob) << (i % 64);
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace cullproof
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace cullproof {
+
+HWY_EXPORT(FloatFirstKernel);
+HWY_EXPORT(FloatCombinationsKernel);
+
+void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
+                       FloatFirstResult& r) {
+  const float g[3] = {seed.x, seed.y, seed.z};
+  auto run = [&](const AabbSoa& s, std::size_t at) {
+    const float* lo[3] = {s.min_x, s.min_y, s.min_z};
+    const float* hi[3] = {s.max_x, s.max_y, s.max_z};
+    HWY_DYNAMIC_DISPATCH(FloatFirstKernel)(f.float_item.data(), f.float_planes, f.float_complete, f.float_t, f.float_x_safe,
+                                           f.float_no_combination, g, lo, hi, s.count, r.J + at, r.outside + at / 64,
+                                           r.inside + at / 64, r.meets + at / 64, r.open + at / 64,
+                                           r.meet_ok + at / 64);
+  };
+  const std::size_t full = part.count / 64 * 64, rest = part.count - full;
+  if (full > 0) run(AabbSoa{part.min_x, part.min_y, part.min_z, part.max_x, part.max_y, part.max_z, full}, 0);
+  if (rest == 0) return;
+  // The tail through a copy padded with zeros (the kernel reads whole vectors).
+  alignas(64) float pad[6][64] = {};
+  const float* src[6] = {part.min_x, part.min_y, part.min_z, part.max_x, part.max_y, part.max_z};
+  for (int k = 0; k < 6; ++k) std::memcpy(pad[k], src[k] + full, rest * sizeof(float));
+  run(AabbSoa{pad[0], pad[1], pad[2], pad[3], pad[4], pad[5], rest}, full);
+}
+
+void exact_float_combinations(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint32_t* J,
+                              const std::uint64_t* meet_ok, std::uint64_t* outside, std::uint64_t* meets) {
+  const float* lo[3] = {boxes.min_x, boxes.min_y, boxes.min_z};
+  const float* hi[3] = {boxes.max_x, boxes.max_y, boxes.max_z};
+  HWY_DYNAMIC_DISPATCH(FloatCombinationsKernel)(f.float_item.data() + f.float_planes, f.comb_in[0].data(),
+                                                f.float_x_safe, lo, hi, boxes.count, J, meet_ok, outside, meets);
+}
+
+}  // namespace cullproof
+#endif  // HWY_ONCE

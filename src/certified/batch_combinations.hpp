@@ -1,0 +1,37 @@
+// The AABB array form's float pass (batch_combinations.cpp; not installed).
+#pragma once
+
+#include "cullproof/cull_batch.hpp"
+#include "cullproof/exact_certified.hpp"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace cullproof {
+
+/// What the first float pass gives for a chunk of boxes: J[i] bit j set where plane j is not
+/// proved to hold box i; bit i of `outside`, `inside` or `meets` where box i is proved outside,
+/// inside or intersecting, of `open` where none is, and for an open box, of `meet_ok` where it
+/// meets the frustum if every combination within J is proved positive on it.
+struct FloatFirstResult {
+  static constexpr std::size_t kCapacity = 256;
+  std::uint32_t J[kCapacity];
+  std::uint64_t outside[kCapacity / 64], inside[kCapacity / 64], meets[kCapacity / 64], open[kCapacity / 64],
+      meet_ok[kCapacity / 64];
+};
+
+/// The first float pass (f.float_planes > 0) over at most kCapacity boxes: the planes, and for
+/// boxes they leave, the witness points (`seed` clamped to the box, and its centre).
+void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
+                       FloatFirstResult& r);
+
+/// The float pass on the frame's combinations, for boxes the first pass left open (J and
+/// meet_ok as it gave them; boxes sharing J placed side by side cost the least): bit i of `outside` where a
+/// combination proves box i outside, of `meets` where meet_ok has it and every combination within
+/// J is proved positive on it.
+void exact_float_combinations(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint32_t* J,
+                              const std::uint64_t* meet_ok, std::uint64_t* outside, std::uint64_t* meets);
+
+}  // namespace cullproof
