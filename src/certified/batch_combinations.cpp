@@ -60,45 +60,45 @@ HWY_INLINE V point_value(V cx, V cy, V cz, V dd, const V (&x)[3]) {
 template <class D>
 struct FirstPlanes {
   using V = hn::Vec<D>;
-  float cx[6], cy[6], cz[6], d_out[6], d_in[6];
+  float cx[6], cy[6], cz[6], d[6], t[6], delta[6];
   const float* pv[6][3];
   const float* nv[6][3];
   FirstPlanes(const ExactCertifiedFrustum::FloatItem* items, int planes, const float* const* lo, const float* const* hi) {
     for (int q = 0; q < planes; ++q) {
       const ExactCertifiedFrustum::FloatItem& it = items[q];
-      cx[q] = it.cx, cy[q] = it.cy, cz[q] = it.cz, d_out[q] = it.d_out, d_in[q] = it.d_in;
+      cx[q] = it.cx, cy[q] = it.cy, cz[q] = it.cz, d[q] = it.d, t[q] = it.t, delta[q] = it.delta;
       for (int k = 0; k < 3; ++k) pv[q][k] = it.max[std::size_t(k)] ? hi[k] : lo[k], nv[q][k] = it.max[std::size_t(k)] ? lo[k] : hi[k];
     }
   }
-  // fl(c.x + off) at the vertex whose coordinates are read from x (x[k] + i).
-  V at(int q, const float* const* x, std::size_t i, float off) const {
-    const D d;
-    return hn::MulAdd(hn::Set(d, cz[q]), hn::LoadU(d, x[2] + i),
-                      hn::MulAdd(hn::Set(d, cy[q]), hn::LoadU(d, x[1] + i),
-                                 hn::MulAdd(hn::Set(d, cx[q]), hn::LoadU(d, x[0] + i), hn::Set(d, off))));
+  // fl(c.x + d) at the vertex whose coordinates are read from x (x[k] + i).
+  V at(int q, const float* const* x, std::size_t i) const {
+    const D dd;
+    return hn::MulAdd(hn::Set(dd, cz[q]), hn::LoadU(dd, x[2] + i),
+                      hn::MulAdd(hn::Set(dd, cy[q]), hn::LoadU(dd, x[1] + i),
+                                 hn::MulAdd(hn::Set(dd, cx[q]), hn::LoadU(dd, x[0] + i), hn::Set(dd, d[q]))));
   }
-  V at_point(int q, const V (&x)[3], float off) const {
-    const D d;
-    return point_value(hn::Set(d, cx[q]), hn::Set(d, cy[q]), hn::Set(d, cz[q]), hn::Set(d, off), x);
+  V at_point(int q, const V (&x)[3]) const {
+    const D dd;
+    return point_value(hn::Set(dd, cx[q]), hn::Set(dd, cy[q]), hn::Set(dd, cz[q]), hn::Set(dd, d[q]), x);
   }
 };
 
-// Boxes [0, n) (arrays readable up to n rounded up to N) on the planes, items [0, planes), with
-// the offsets d_out / d_in and T = fl(t X): bits of `outside` (some plane's p-vertex value with
-// d_out below -T), `inside` (every n-vertex value with d_in at least T), `meets` (intersecting,
-// proved), `open` (none of these) and, for an open box, J[i] (bit j: plane j not proved to hold
-// it) and bit i of `meet_ok` (the box meets the frustum if every combination within J is proved
-// positive on it: see exact_certified.cpp). `meets`: the box is not inside (some n-vertex value
-// with d_out below -T: a vertex strictly outside) and either a float point of it, the seed
-// clamped to it or its centre fl(fl(lo + hi) 0.5) (both in the box exactly), is proved strictly
-// inside every plane (a point is a box, with X its own magnitude), or meet_ok holds (every plane
-// of J has the p-vertex strictly inside) and no combination lies within J (bit J of
-// `no_combination`). Boxes with X > x_safe (or a NaN) are open, with meet_ok clear. J is written
-// for every box (0 where not open).
+// Boxes [0, n) (arrays readable up to n rounded up to N) on the planes, items [0, planes), each
+// value compared with its item's threshold theta = fl(t X + delta): bits of `outside` (some
+// p-vertex value below -theta), `inside` (every n-vertex value at least theta), `meets`
+// (intersecting, proved), `open` (none of these) and, for an open box, J[i] (bit j: plane j not
+// proved to hold it) and bit i of `meet_ok` (the box meets the frustum if every combination
+// within J is proved positive on it: see exact_certified.cpp). `meets`: the box is not inside
+// (some n-vertex value below -theta: a vertex strictly outside) and either a float point of it,
+// the seed clamped to it or its centre fl(fl(lo + hi) 0.5) (both in the box exactly), is proved
+// strictly inside every plane (a point is a box, with X its own magnitude), or meet_ok holds
+// (every plane of J has the p-vertex strictly inside) and no combination lies within J (bit J of
+// `no_combination`). Boxes with X > x_safe (or a NaN) are open, with meet_ok clear. The witness
+// points are not tried for boxes whose bit is set in `tried` (may be null).
 template <int kCount>
-HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, int count, bool complete, float t,
-                               float x_safe, std::uint64_t no_combination, const float* seed, const float* const* lo,
-                               const float* const* hi, std::size_t n, std::uint32_t* J, std::uint64_t* outside,
+HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, int count, bool complete, float x_safe, std::uint64_t no_combination, const float* seed, const std::uint64_t* tried,
+                               const float* const* lo, const float* const* hi, std::size_t n, std::uint32_t* J,
+                               std::uint64_t* outside,
                                std::uint64_t* inside, std::uint64_t* meets, std::uint64_t* open,
                                std::uint64_t* meet_ok) {
   const hn::ScalableTag<float> d;
@@ -108,10 +108,10 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
   const std::size_t N = hn::Lanes(d);
   const int planes = kCount > 0 ? kCount : count;
   const FirstPlanes<decltype(d)> pl(items, planes, lo, hi);
-  const V tv = hn::Set(d, t), safe = hn::Set(d, x_safe), half = hn::Set(d, 0.5f), inf = hn::Set(d, HUGE_VALF);
+  const V safe = hn::Set(d, x_safe), half = hn::Set(d, 0.5f);
   const V g[3] = {hn::Set(d, seed[0]), hn::Set(d, seed[1]), hn::Set(d, seed[2])};
   const auto abs_mask = hn::Set(du, 0x7fffffffu);
-  const Mk none = hn::Lt(tv, tv), all = hn::Eq(tv, tv);
+  const Mk none = hn::Lt(half, half), all = hn::Eq(half, half);
   for (std::size_t w = 0; w < bitset_words(n); ++w) outside[w] = inside[w] = meet_ok[w] = meets[w] = open[w] = 0;
   const auto none_lo = hn::Set(du, std::uint32_t(no_combination)), none_hi = hn::Set(du, std::uint32_t(no_combination >> 32));
   for (std::size_t i = 0; i < n; i += N) {
@@ -120,38 +120,38 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
       xb = hn::Max(xb, hn::Max(hn::And(hn::BitCast(du, hn::LoadU(d, lo[k] + i)), abs_mask),
                                hn::And(hn::BitCast(du, hn::LoadU(d, hi[k] + i)), abs_mask)));
     const V x = hn::BitCast(d, xb);  // the magnitude X (a NaN sorts high)
-    const V T = hn::Mul(tv, x), nT = hn::Neg(T);
-    V minp = inf, minn = inf;
+    Mk out = none, held_all = all, p_in = all, strictly_out = none;
     auto jbits = hn::Zero(du);
 #pragma GCC unroll 6
     for (int q = 0; q < planes; ++q) {
-      minp = hn::Min(minp, pl.at(q, pl.pv[q], i, pl.d_out[q]));
-      const V vn = pl.at(q, pl.nv[q], i, pl.d_in[q]);
-      minn = hn::Min(minn, vn);
-      jbits = hn::Or(jbits, hn::IfThenElseZero(hn::RebindMask(du, hn::Lt(vn, T)), hn::Set(du, 1u << q)));
+      const V theta = hn::MulAdd(hn::Set(d, pl.t[q]), x, hn::Set(d, pl.delta[q])), ntheta = hn::Neg(theta);
+      const V vp = pl.at(q, pl.pv[q], i), vn = pl.at(q, pl.nv[q], i);
+      const Mk held = hn::Ge(vn, theta);
+      out = hn::Or(out, hn::Lt(vp, ntheta));
+      held_all = hn::And(held_all, held);
+      p_in = hn::And(p_in, hn::Or(held, hn::Ge(vp, theta)));  // a plane of J: its p-vertex inside
+      strictly_out = hn::Or(strictly_out, hn::Lt(vn, ntheta));
+      jbits = hn::Or(jbits, hn::IfThenZeroElse(hn::RebindMask(du, held), hn::Set(du, 1u << q)));
     }
     const Mk ok = hn::Le(x, safe);  // false for NaN
-    const Mk proved_out = hn::And(hn::Lt(minp, nT), ok);
+    const Mk proved_out = hn::And(out, ok);
     const Mk rest = hn::AndNot(proved_out, ok);
-    const Mk proved_in = hn::And(rest, hn::Ge(minn, T));
-    const Mk undecided = hn::AndNot(proved_in, rest);
+    const Mk proved_in = hn::And(rest, held_all);
+    const Mk cut = hn::AndNot(held_all, hn::And(rest, strictly_out));  // in the frame, not inside
     Mk proved_meet = none, may_meet = none;
-    if (!hn::AllFalse(d, undecided)) {
-      // p-vertices inside the planes of J, a vertex strictly outside one.
-      Mk p_in = all;
-      V minq = inf;
-      for (int q = 0; q < planes; ++q) {
-        const Mk in_j = hn::RebindMask(d, hn::TestBit(jbits, hn::Set(du, 1u << q)));
-        p_in = hn::And(p_in, hn::Or(hn::Not(in_j), hn::Ge(pl.at(q, pl.pv[q], i, pl.d_in[q]), T)));
-        minq = hn::Min(minq, pl.at(q, pl.nv[q], i, pl.d_out[q]));
-      }
-      const Mk cut = hn::And(undecided, hn::Lt(minq, nT));  // in the frame, not inside
+    if (!hn::AllFalse(d, cut)) {
       may_meet = complete ? hn::And(cut, p_in) : none;
       const auto low5 = hn::And(jbits, hn::Set(du, 31u));  // J < 64: bit 5 picks the word
       const auto shifted = hn::IfThenElse(hn::TestBit(jbits, hn::Set(du, 32u)), none_hi >> low5, none_lo >> low5);
       const Mk alone = hn::RebindMask(d, hn::TestBit(shifted, hn::Set(du, 1u)));  // no combination within J
       proved_meet = hn::And(may_meet, alone);
-      const Mk witness = hn::AndNot(proved_meet, cut);
+      Mk witness = hn::AndNot(proved_meet, cut);
+      if (tried != nullptr) {  // boxes whose witness points were tried before
+        std::uint8_t bytes[8];
+        const std::uint64_t word = tried[i / 64] >> (i % 64);
+        std::memcpy(bytes, &word, sizeof word);
+        witness = hn::AndNot(hn::LoadMaskBits(d, bytes), witness);
+      }
       if (!hn::AllFalse(d, witness)) {  // the witness points
         V p[3], c[3];
         auto xp = hn::Zero(du), xc = hn::Zero(du);
@@ -162,13 +162,13 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
           xp = hn::Max(xp, hn::And(hn::BitCast(du, p[k]), abs_mask));
           xc = hn::Max(xc, hn::And(hn::BitCast(du, c[k]), abs_mask));
         }
-        const V tp = hn::Mul(tv, hn::BitCast(d, xp)), tc = hn::Mul(tv, hn::BitCast(d, xc));
-        V mp = inf, mc = inf;
+        Mk p_inside = all, c_inside = all;
         for (int q = 0; q < planes; ++q) {
-          mp = hn::Min(mp, pl.at_point(q, p, pl.d_in[q]));
-          mc = hn::Min(mc, pl.at_point(q, c, pl.d_in[q]));
+          const V t = hn::Set(d, pl.t[q]), delta = hn::Set(d, pl.delta[q]);
+          p_inside = hn::And(p_inside, hn::Ge(pl.at_point(q, p), hn::MulAdd(t, hn::BitCast(d, xp), delta)));
+          c_inside = hn::And(c_inside, hn::Ge(pl.at_point(q, c), hn::MulAdd(t, hn::BitCast(d, xc), delta)));
         }
-        proved_meet = hn::Or(proved_meet, hn::And(witness, hn::Or(hn::Ge(mp, tp), hn::Ge(mc, tc))));
+        proved_meet = hn::Or(proved_meet, hn::And(witness, hn::Or(p_inside, c_inside)));
       }
     }
     const std::uint64_t keep = lanes(std::min(N, n - i));
@@ -183,15 +183,16 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
   }
 }
 
-void FloatFirstKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, bool complete, float t, float x_safe,
-                      std::uint64_t no_combination, const float* seed, const float* const* lo, const float* const* hi,
+void FloatFirstKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, bool complete, float x_safe,
+                      std::uint64_t no_combination, const float* seed, const std::uint64_t* tried,
+                      const float* const* lo, const float* const* hi,
                       std::size_t n, std::uint32_t* J, std::uint64_t* outside, std::uint64_t* inside,
                       std::uint64_t* meets, std::uint64_t* open, std::uint64_t* meet_ok) {
   if (planes == 6)
-    return FloatFirstImpl<6>(items, planes, complete, t, x_safe, no_combination, seed, lo, hi, n, J, outside, inside,
-                             meets, open, meet_ok);
-  FloatFirstImpl<0>(items, planes, complete, t, x_safe, no_combination, seed, lo, hi, n, J, outside, inside, meets,
-                    open, meet_ok);
+    return FloatFirstImpl<6>(items, planes, complete, x_safe, no_combination, seed, tried, lo, hi, n, J, outside,
+                             inside, meets, open, meet_ok);
+  FloatFirstImpl<0>(items, planes, complete, x_safe, no_combination, seed, tried, lo, hi, n, J, outside, inside,
+                    meets, open, meet_ok);
 }
 
 // Boxes [0, n) with their J (as FloatFirstKernel left them; neighbours best share it) on the
@@ -265,15 +266,15 @@ namespace cullproof {
 
 HWY_EXPORT(FloatFirstKernel);
 HWY_EXPORT(FloatCombinationsKernel);
-
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
-                       FloatFirstResult& r) {
+                       FloatFirstResult& r, const std::uint64_t* tried) {
   const float g[3] = {seed.x, seed.y, seed.z};
   auto run = [&](const AabbSoa& s, std::size_t at) {
     const float* lo[3] = {s.min_x, s.min_y, s.min_z};
     const float* hi[3] = {s.max_x, s.max_y, s.max_z};
-    HWY_DYNAMIC_DISPATCH(FloatFirstKernel)(f.float_item.data(), f.float_planes, f.float_complete, f.float_t, f.float_x_safe,
-                                           f.float_no_combination, g, lo, hi, s.count, r.J + at, r.outside + at / 64,
+    HWY_DYNAMIC_DISPATCH(FloatFirstKernel)(f.float_item.data(), f.float_planes, f.float_complete, f.float_x_safe,
+                                           f.float_no_combination, g, tried ? tried + at / 64 : nullptr, lo, hi, s.count,
+                                           r.J + at, r.outside + at / 64,
                                            r.inside + at / 64, r.meets + at / 64, r.open + at / 64,
                                            r.meet_ok + at / 64);
   };

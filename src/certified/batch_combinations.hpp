@@ -23,9 +23,10 @@ struct FloatFirstResult {
 };
 
 /// The first float pass (f.float_planes > 0) over at most kCapacity boxes: the planes, and for
-/// boxes they leave, the witness points (`seed` clamped to the box, and its centre).
+/// boxes they leave, the witness points (`seed` clamped to the box, and its centre), except for
+/// boxes whose bit is set in `tried` (may be null): their witness points failed before.
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
-                       FloatFirstResult& r);
+                       FloatFirstResult& r, const std::uint64_t* tried = nullptr);
 
 /// The float pass on the frame's combinations, for boxes the first pass left open (J and
 /// meet_ok as it gave them; boxes sharing J placed side by side cost the least): bit i of `outside` where a

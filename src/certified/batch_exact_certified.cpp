@@ -50,8 +50,9 @@ class OpenBoxes {
 
   const glm::vec3& seed() const noexcept { return seed_; }
 
-  // Box j of `part` (bit j of `open`) is box base + j of the array.
-  void add(const AabbSoa& part, std::size_t base, const std::uint64_t* open) {
+  // Box j of `part` (bit j of `open`) is box base + j of the array; `tried`: its witness points
+  // failed already.
+  void add(const AabbSoa& part, std::size_t base, const std::uint64_t* open, bool tried) {
     if (n_ > 0 && base + part.count - first_ > 0x7fffffffu) flush();  // positions kept in 32 bits
     if (n_ == 0) first_ = base;
     const float* src[6] = {part.min_x, part.min_y, part.min_z, part.max_x, part.max_y, part.max_z};
@@ -60,6 +61,7 @@ class OpenBoxes {
         const std::size_t j = w * 64 + std::size_t(__builtin_ctzll(b));
         index_[n_] = std::uint32_t(base - first_ + j);
         for (int k = 0; k < 6; ++k) box_[k][n_] = src[k][j];
+        tried_[n_ / 64] = (tried_[n_ / 64] & ~(std::uint64_t{1} << (n_ % 64))) | (std::uint64_t{tried} << (n_ % 64));
         if (++n_ == kChunk) flush();
       }
   }
@@ -71,7 +73,7 @@ class OpenBoxes {
       n_ = 0;
       return;
     }
-    exact_float_first(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, seed_, first_pass_);
+    exact_float_first(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, seed_, first_pass_, tried_);
     const FloatFirstResult& r = first_pass_;
     const std::size_t words = bitset_words(n_);
     settle_bits(r.outside, words, Visibility::outside);
@@ -84,7 +86,7 @@ class OpenBoxes {
       for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) ++start[r.J[w * 64 + std::size_t(__builtin_ctzll(b))] + 1];
     for (std::size_t j = 0; j < 64; ++j) start[j + 1] += start[j];
     const std::size_t m = start[64];
-    std::uint64_t ok[kChunk / 64] = {}, out[kChunk / 64], met[kChunk / 64];
+    std::uint64_t ok[kOpen / 64] = {}, out[kOpen / 64], met[kOpen / 64];
     for (std::size_t w = 0; w < words; ++w)
       for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) {
         const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b)), s = start[r.J[q]]++;
@@ -110,7 +112,8 @@ class OpenBoxes {
   }
 
  private:
-  using Boxes = float[6][kChunk];
+  static constexpr std::size_t kOpen = kChunk;
+  using Boxes = float[6][kOpen];
   Visibility cascade(const Boxes& a, std::size_t q) const {
     return exact_certified_aabb(f_, Aabb{{a[0][q], a[1][q], a[2][q]}, {a[3][q], a[4][q], a[5][q]}});
   }
@@ -123,7 +126,8 @@ class OpenBoxes {
   Visibility* verdicts_;
   glm::vec3 seed_;
   std::size_t n_ = 0, first_ = 0;
-  std::uint32_t index_[kChunk], rest_[kChunk], J_[kChunk];
+  std::uint32_t index_[kOpen], rest_[kOpen], J_[kOpen];
+  std::uint64_t tried_[kOpen / 64] = {};
   FloatFirstResult first_pass_;
   alignas(64) Boxes box_, left_;
 };
@@ -138,12 +142,13 @@ void aabb_chunk(const ExactCertifiedFrustum& f, const AabbSoa& part, std::size_t
   certified_cull_aabbs_bitset(f.certified, part, vis, ins);
   std::size_t left = 0;
   for (std::size_t w = 0; w < words; ++w) todo[w] = vis[w] & ~ins[w], left += std::size_t(__builtin_popcountll(todo[w]));
-  if (4 * left > part.count) {
+  const bool dense = 4 * left > part.count;
+  if (dense) {
     certified_meets_aabbs_bitset(f.certified, part, open.seed(), todo, meets);
     for (std::size_t w = 0; w < words; ++w) todo[w] &= ~meets[w];
   }
   for (std::size_t j = 0; j < part.count; ++j) verdicts[base + j] = detail::bit_verdict(vis, ins, j);  // open: at flush
-  open.add(part, base, todo);
+  open.add(part, base, todo, dense);
 }
 
 }  // namespace

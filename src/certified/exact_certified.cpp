@@ -181,12 +181,6 @@
 // max_B > 0, and at q, v >= theta proves the half-space holds the box and v < -theta that a vertex
 // is strictly outside it. With Cf, Df, t, delta finite and X <= x_safe = min_q (2^120 - |Df| -
 // delta) / (A_f + t), nothing overflows; a NaN coordinate fails every comparison.
-//  The planes fold delta into two offsets instead, as the certified tests do: d_out >= Df + delta
-// and d_in <= Df - delta (rounded outwards to float; delta (1 - gamma_4) still covers e0 and the
-// evaluation's gamma_4 |d_out|, by the factor 1 + 2^-20), and share one T = fl(t X) with t the
-// largest of the planes' t: fl(Cf.p + d_out) < -T proves max_B < 0 at p, fl(Cf.q + d_in) >= T
-// proves min_B > 0 at q, and likewise at any float point x of the box with X = max |x_i| (a
-// point is a box).
 //  Per box: outside when an item proves it; inside when every plane holds the box; intersecting
 // when the list is complete (comb_complete, and every plane and combination has its float item),
 // every plane not proved to hold the box (J) has the box's p-vertex proved inside, every
@@ -596,8 +590,6 @@ void build_float_items(ExactCertifiedFrustum& f) {
     const double e0 = up(std::ldexp(k0, -e)) + uf * std::abs(ds) + tiny;
     q.t = float_at_least(up((e1 + F::kEval * uf * af) * widen));
     q.delta = float_at_least(up((e0 + F::kEval * uf * std::abs(double(q.d))) * widen + F::kUnderflow));
-    q.d_out = float_at_least(double(q.d) + double(q.delta));
-    q.d_in = float_at_most(double(q.d) - double(q.delta));
     const bool finite = std::isfinite(q.cx) && std::isfinite(q.cy) && std::isfinite(q.cz) && std::isfinite(q.d) &&
                         std::isfinite(q.t) && std::isfinite(q.delta);
     if (finite) {
@@ -605,7 +597,6 @@ void build_float_items(ExactCertifiedFrustum& f) {
     } else {
       q.cx = q.cy = q.cz = q.d = 0.0f;
       q.t = q.delta = std::numeric_limits<float>::infinity();
-      q.d_out = std::numeric_limits<float>::infinity(), q.d_in = -q.d_out;
     }
     f.float_item[std::size_t(f.float_count++)] = q;
     return finite;
@@ -620,8 +611,6 @@ void build_float_items(ExactCertifiedFrustum& f) {
     complete = add(c.cx, c.cy, c.cz, c.d, c.k1, c.k0, c.planes) && complete;
   }
   f.float_planes = planes_fit ? f.count : 0;
-  f.float_t = 0.0f;
-  for (int j = 0; j < f.float_planes; ++j) f.float_t = std::max(f.float_t, f.float_item[std::size_t(j)].t);
   f.float_no_combination = 0;
   for (std::size_t J = 0; J < 64; ++J)
     f.float_no_combination |= std::uint64_t((f.comb_in[J][0] | f.comb_in[J][1]) == 0) << J;

@@ -89,8 +89,7 @@ struct FloatPassMargins {
   static constexpr double u = 0x1p-24;
   /// gamma_4 / u: a value fl(C.x + D), four terms, any order, fused or not.
   static constexpr double kEval = 4.0001;
-  /// Relative room for the threshold's own roundings (at most two, each 1 - u) and, with the
-  /// planes' offsets d_out = Df + delta, for the evaluation's error on delta itself (gamma_4).
+  /// Relative room for the threshold's own roundings (at most two, each a factor 1 - u).
   static constexpr double kWiden = 0x1p-20;
   /// A coefficient rounded to a subnormal float errs by up to this much absolutely.
   static constexpr double kSubnormal = 0x1p-150;
@@ -172,7 +171,6 @@ struct ExactCertifiedFrustum {
   struct FloatItem {
     float cx = 0, cy = 0, cz = 0, d = 0;
     float t = 0, delta = 0;
-    float d_out = 0, d_in = 0;           ///< d + delta rounded up, d - delta rounded down (planes)
     std::uint32_t planes = 0;            ///< bit j: plane[j] is in it
     std::array<std::uint8_t, 3> max{};   ///< 1 where c_i >= 0: the p-vertex takes max_i
     std::array<std::uint8_t, 3> member{};  ///< its planes (a pair repeats one), for combinations
@@ -181,7 +179,6 @@ struct ExactCertifiedFrustum {
   int float_planes = 0;  ///< count, or 0 when a plane does not fit a float (no float pass then)
   int float_count = 0;
   float float_x_safe = 0.0f;
-  float float_t = 0.0f;  ///< the largest t of the planes' items: T = fl(float_t X) with d_out, d_in
   /// Bit J set where no combination lies within the set of planes J (comb_in[J] empty).
   std::uint64_t float_no_combination = 0;
   /// comb_complete, and every plane and combination has its item: the pass may prove `intersecting`.
