@@ -54,6 +54,7 @@ struct Arrays {
   const float* min[3];
   const float* max[3];
 };
+
 }  // namespace cullproof::certified_batch_detail
 #endif
 
@@ -479,34 +480,62 @@ void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, con
 }
 
 // Spheres the plane test left undecided (bits of `todo`), proved to meet the frustum without
-// being inside it: `meets` bit set iff the centre c has fl(n'.c + d_in) >= fl(t_box M_c) on every
-// plane with the box planes' margins (the point test: c strictly inside every plane, so the ball
-// meets the frustum) and some plane has fl(-r |n'| + fl(n'.c + d_out)) < -fl(t_sphere fl(M_c + r))
-// with the sphere planes' margins (c - r n/|n| strictly outside it, so the ball is not inside).
-// The second is the sphere test's own bound, which certified.cpp derives for r |n| taken with
-// either sign; both hold fused or not. A sphere whose M passes m_safe (or holds a NaN) gets no bit.
-void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_planes, int count, const float* x,
-                          const float* y, const float* z, const float* r, float t_box, float t_sphere, float m_safe,
-                          std::size_t w0, std::size_t w1, const std::uint64_t* todo, std::uint64_t* meets) {
+// being inside it: `meets` bit set iff some plane has fl(-r |n'| + fl(n'.c + d_out)) <
+// -fl(t_sphere fl(M_c + r)) with the sphere planes' margins (c - r n/|n| strictly outside it, so
+// the ball is not inside: the sphere test's own bound, which certified.cpp derives for r |n|
+// taken with either sign), and a float point x of the ball is strictly inside every plane,
+// fl(n'.x + d_in) >= fl(t_box M_x) with the box planes' margins (the point test). The points
+// tried: the centre, and x = c + k (g - c), k = min(1, 0.999 r / |g - c|), a step from the centre
+// towards the seed g (any float point: it is certified, not the step). x lies in the ball when
+//   fl(fl(s K) + E) < fl(r r),  s = fl(sum fl(x_i - c_i)^2),  K = 1 + 2^-20, E = 2^-140:
+// a difference of floats is within u of the exact one (exact if it underflows), so the true
+// squared distance D <= sum fl(x_i - c_i)^2 / (1 - u)^2; the three squares and two sums, in any
+// order, fused or not, give s >= (1 - gamma_3) sum fl(x_i - c_i)^2 - 3 2^-150 (a square that
+// underflows); fl(r r) <= r^2 (1 + u) + 2^-150; and the check's two roundings keep at least
+// s K (1 - u)^2 + E / 2. So D < r^2 whenever (1 + u) / (K (1 - u)^4 (1 - gamma_3)) <= 1 and
+// E / 2 covers the absolute terms (tests/certified/test_certified.cpp re-derives both). All hold
+// fused or not; a sphere whose M passes m_safe (or holds a NaN) gets no bit.
+void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_planes, int count, const float* g,
+                          const float* x, const float* y, const float* z, const float* r, float t_box, float t_sphere,
+                          float m_safe, std::size_t w0, std::size_t w1, const std::uint64_t* todo,
+                          std::uint64_t* meets) {
   const hn::ScalableTag<float> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t N = hn::Lanes(d);
   const PlaneVecs<decltype(d)> pb(d, box_planes, count), ps(d, sphere_planes, count);
   const V tb = hn::Set(d, t_box), ts = hn::Set(d, t_sphere), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
+  const V gv[3] = {hn::Set(d, g[0]), hn::Set(d, g[1]), hn::Set(d, g[2])};
+  const V one = hn::Set(d, 1.0f), step = hn::Set(d, 0.999f), K = hn::Set(d, CertifiedMargins::kBallScale),
+          E = hn::Set(d, CertifiedMargins::kBallAbsolute);
   for (std::size_t w = w0; w < w1; ++w) {
     std::uint64_t bits = 0;
     if (todo[w] != 0)
       for (std::size_t j = 0; j < 64; j += N) {
         const std::size_t i = w * 64 + j;
-        const V cx = hn::LoadU(d, x + i), cy = hn::LoadU(d, y + i), cz = hn::LoadU(d, z + i), rad = hn::LoadU(d, r + i);
-        const V mc = hn::Max(hn::Abs(cx), hn::Max(hn::Abs(cy), hn::Abs(cz)));
+        const V c[3] = {hn::LoadU(d, x + i), hn::LoadU(d, y + i), hn::LoadU(d, z + i)};
+        const V rad = hn::LoadU(d, r + i);
+        const V mc = hn::Max(hn::Abs(c[0]), hn::Max(hn::Abs(c[1]), hn::Abs(c[2])));
         const V m = hn::Add(mc, rad);
-        V wc = inf, wq = inf;
+        // The step towards g, and its magnitude.
+        V dg[3], p[3];
+        for (int k = 0; k < 3; ++k) dg[k] = hn::Sub(gv[k], c[k]);
+        const V len = hn::Sqrt(hn::MulAdd(dg[2], dg[2], hn::MulAdd(dg[1], dg[1], hn::Mul(dg[0], dg[0]))));
+        const V kk = hn::Min(one, hn::Div(hn::Mul(step, rad), len));  // len = 0: +inf, then 1; NaN: no proof
+        for (int k = 0; k < 3; ++k) p[k] = hn::MulAdd(kk, dg[k], c[k]);
+        const V mp = hn::Max(hn::Abs(p[0]), hn::Max(hn::Abs(p[1]), hn::Abs(p[2])));
+        V wc = inf, wp = inf, wq = inf;
         for (int k = 0; k < count; ++k) {
-          wc = hn::Min(wc, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], cx, cy, cz));
-          wq = hn::Min(wq, hn::NegMulAdd(rad, ps.len[k], plane3(ps.nx[k], ps.ny[k], ps.nz[k], ps.dout[k], cx, cy, cz)));
+          wc = hn::Min(wc, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], c[0], c[1], c[2]));
+          wp = hn::Min(wp, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], p[0], p[1], p[2]));
+          wq = hn::Min(wq, hn::NegMulAdd(rad, ps.len[k], plane3(ps.nx[k], ps.ny[k], ps.nz[k], ps.dout[k], c[0], c[1], c[2])));
         }
-        const auto proved = hn::And(hn::And(hn::Ge(wc, hn::Mul(tb, mc)), hn::Lt(wq, hn::Neg(hn::Mul(ts, m)))),
+        V e[3];
+        for (int k = 0; k < 3; ++k) e[k] = hn::Sub(p[k], c[k]);
+        const V sq = hn::MulAdd(e[2], e[2], hn::MulAdd(e[1], e[1], hn::Mul(e[0], e[0])));
+        const auto in_ball = hn::Lt(hn::MulAdd(sq, K, E), hn::Mul(rad, rad));
+        const auto centre_in = hn::Ge(wc, hn::Mul(tb, mc));
+        const auto step_in = hn::And(in_ball, hn::And(hn::Ge(wp, hn::Mul(tb, mp)), hn::Le(mp, msafe)));
+        const auto proved = hn::And(hn::And(hn::Or(centre_in, step_in), hn::Lt(wq, hn::Neg(hn::Mul(ts, m)))),
                                     hn::Le(m, msafe));  // false for NaN
         bits |= mask_bits(d, proved) << j;
       }
@@ -781,12 +810,13 @@ void certified_meets_aabbs_bitset(const CertifiedFrustum& frustum, const AabbSoa
   run(tail, 0, 1, &in, meets + full);
 }
 
-void certified_meets_spheres_bitset(const CertifiedFrustum& frustum, const SphereSoa& s, const std::uint64_t* todo,
-                                    std::uint64_t* meets) {
+void certified_meets_spheres_bitset(const CertifiedFrustum& frustum, const SphereSoa& s, const glm::vec3& seed,
+                                    const std::uint64_t* todo, std::uint64_t* meets) {
   const CertifiedFrustum::Data& f = frustum.data();
   const std::size_t words = bitset_words(s.count);
   if (f.empty || f.active_count == 0) return clear(words, meets, nullptr);
   CertPlane box[6], ball[6];
+  const float g[3] = {seed.x, seed.y, seed.z};
   for (int i = 0; i < f.active_count; ++i) {
     const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
     const CertifiedPlane& q = f.fast_sphere[static_cast<std::size_t>(i)];
@@ -794,7 +824,7 @@ void certified_meets_spheres_bitset(const CertifiedFrustum& frustum, const Spher
     ball[i] = CertPlane{q.nx, q.ny, q.nz, q.d_out, q.d_in, q.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
   }
   auto run = [&](const SphereSoa& q, std::size_t w0, std::size_t w1, const std::uint64_t* in, std::uint64_t* out) {
-    HWY_DYNAMIC_DISPATCH(CertSphereMeetKernel)(box, ball, f.active_count, q.x, q.y, q.z, q.radius, f.t_box,
+    HWY_DYNAMIC_DISPATCH(CertSphereMeetKernel)(box, ball, f.active_count, g, q.x, q.y, q.z, q.radius, f.t_box,
                                                f.t_sphere, f.m_safe, w0, w1, in, out);
   };
   const std::size_t full = s.count / 64, rest = s.count - full * 64;

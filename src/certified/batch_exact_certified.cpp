@@ -164,6 +164,7 @@ void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes,
 }
 
 void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& spheres, Visibility* verdicts) {
+  const glm::vec3 seed = witness_seed(f);
   std::uint64_t vis[kChunk / 64], ins[kChunk / 64], todo[kChunk / 64], meets[kChunk / 64];
   for (std::size_t i0 = 0; i0 < spheres.count; i0 += kChunk) {
     const std::size_t m = std::min(kChunk, spheres.count - i0);
@@ -171,7 +172,7 @@ void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& sp
     certified_cull_spheres_bitset(f.certified, part, vis, ins);
     const std::size_t words = bitset_words(m);
     for (std::size_t w = 0; w < words; ++w) todo[w] = vis[w] & ~ins[w];
-    certified_meets_spheres_bitset(f.certified, part, todo, meets);
+    certified_meets_spheres_bitset(f.certified, part, seed, todo, meets);
     settle(vis, ins, meets, m, verdicts + i0, [&](std::size_t j) {
       return exact_certified_sphere(f, Sphere{{part.x[j], part.y[j], part.z[j]}, part.radius[j]});
     });

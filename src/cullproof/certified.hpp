@@ -32,6 +32,10 @@ struct CertifiedMargins {
   static constexpr float kWide = 0x1p-20f;
   /// Every absolute underflow error of a margin's computation (a few 2^-150).
   static constexpr float kUnderflow = 0x1p-126f;
+  /// A float point x lies in the ball (c, r) when fl(fl(s kBallScale) + kBallAbsolute) < fl(r r),
+  /// s = fl(sum fl(x_i - c_i)^2) in any order, fused or not (the SIMD sphere witness pass).
+  static constexpr float kBallScale = 1.0f + 0x1p-20f;
+  static constexpr float kBallAbsolute = 0x1p-140f;
 };
 
 /// A frustum prepared for certified tests (once per frame). For each plane k: the float plane a

@@ -32,11 +32,12 @@ void certified_meets_aabbs_bitset(const CertifiedFrustum& f, const AabbSoa& boxe
                                   const std::uint64_t* todo, std::uint64_t* meets);
 
 /// Of the spheres whose bit is set in `todo`, sets bit i of `meets` where sphere i is certainly
-/// intersecting: its centre is certified strictly inside every plane by the point test and some
-/// point of it strictly outside one by the sphere test's bound; every other bit is zero. As for
-/// boxes, a set bit is a proof and a clear one decides nothing.
-void certified_meets_spheres_bitset(const CertifiedFrustum& f, const SphereSoa& spheres, const std::uint64_t* todo,
-                                    std::uint64_t* meets);
+/// intersecting: a float point of it (its centre, or a step from the centre towards `seed`,
+/// certified inside the ball) is certified strictly inside every plane by the point test, and
+/// some point of it strictly outside one by the sphere test's bound; every other bit is zero. As
+/// for boxes, a set bit is a proof and a clear one decides nothing; any seed is sound.
+void certified_meets_spheres_bitset(const CertifiedFrustum& f, const SphereSoa& spheres, const glm::vec3& seed,
+                                    const std::uint64_t* todo, std::uint64_t* meets);
 
 /// Whether the dispatched SIMD target has fused multiply-adds. Without them the batches run
 /// the same operations volume by volume with std::fma (same verdicts, slower).

@@ -342,20 +342,22 @@ TEST(CertifiedBatch, TheWitnessPassProvesBoxesThatCrossAPlane) {
   for (std::uint64_t w : meets) EXPECT_EQ(w, 0u);
 }
 
-// The sphere witness pass: the centre certified inside every plane and the ball reaching past
-// one; same frustum, spheres past a word.
-TEST(CertifiedBatch, TheSphereWitnessPassProvesBallsWhoseCentreIsInside) {
+// The sphere witness pass: a point of the ball (its centre, or a step from it towards the seed
+// (0, 0, -2)) certified inside every plane, and the ball reaching past one; same frustum,
+// spheres past a word.
+TEST(CertifiedBatch, TheSphereWitnessPassProvesBallsThatCrossAPlane) {
   const CertifiedFrustum f = certify_planes(F());
   const std::vector<Sphere> kinds = {
       Sphere{{1.5f, 0.0f, -2.0f}, 1.0f},     // centre inside, reaches past x = -z: proved
       Sphere{{0.0f, 0.0f, -2.0f}, 0.25f},    // inside: no point outside, no bit
       Sphere{{0.0f, 0.0f, -2.0f}, 0.999f},   // inside still (the nearest plane is 1.41 away): no bit
-      Sphere{{2.5f, 0.0f, -2.0f}, 1.0f},     // meets the frustum, but the centre is outside: no bit
+      Sphere{{2.5f, 0.0f, -2.0f}, 1.0f},     // centre outside; the step reaches (1.501, 0, -2): proved
       Sphere{{9.0f, 9.0f, -2.0f}, 1.0f},     // outside: no bit
       Sphere{{0.0f, 0.0f, -2.0f}, 3e38f},    // holds the frustum, but M > m_safe: no bit
-      Sphere{{0.0f, 0.0f, -1.0f}, 0.5f},     // centre on the near plane (not strictly inside): no bit
+      Sphere{{0.0f, 0.0f, -1.0f}, 0.5f},     // centre on the near plane, the step stays inside: proved
+      Sphere{{2.5f, 0.0f, -2.0f}, 0.5001f},  // meets x = 2 only within 1e-4: the step ends outside, no bit
   };
-  const std::vector<bool> proved = {true, false, false, false, false, false, false};
+  const std::vector<bool> proved = {true, false, false, true, false, false, true, false};
   std::vector<float> a[4];
   const std::size_t n = 75;
   for (std::size_t i = 0; i < n; ++i) {
@@ -365,11 +367,11 @@ TEST(CertifiedBatch, TheSphereWitnessPassProvesBallsWhoseCentreIsInside) {
   const SphereSoa soa{a[0].data(), a[1].data(), a[2].data(), a[3].data(), n};
   std::vector<std::uint64_t> todo(bitset_words(n), ~std::uint64_t{0}), meets(todo.size(), 0);
   todo.back() = (std::uint64_t{1} << (n % 64)) - 1;
-  certified_meets_spheres_bitset(f, soa, todo.data(), meets.data());
+  certified_meets_spheres_bitset(f, soa, glm::vec3(0, 0, -2), todo.data(), meets.data());
   for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(bit(meets, i), proved[i % kinds.size()]) << "sphere " << i;
   EXPECT_EQ(meets.back() >> (n % 64), 0u);
   std::fill(todo.begin(), todo.end(), 0);
-  certified_meets_spheres_bitset(f, soa, todo.data(), meets.data());
+  certified_meets_spheres_bitset(f, soa, glm::vec3(0, 0, -2), todo.data(), meets.data());
   for (std::uint64_t w : meets) EXPECT_EQ(w, 0u);
 }
 
@@ -482,4 +484,15 @@ TEST(CertifiedMargins, FastPathOffsetsAndThreshold) {
   // Spheres: the 11 u bound, under kWide with the same roundings.
   EXPECT_GT(L(CertifiedMargins::kWide) * (1 - u) * (1 - u), 11 * u);
   EXPECT_GT(L(CertifiedMargins::kWide) * (1 - gamma(4)), 11 * u);
+}
+
+TEST(CertifiedMargins, BallMembership) {
+  // fl(fl(s K) + E) < fl(r r) proves sum (x_i - c_i)^2 < r^2: the differences (u each), the three
+  // squares and two sums (gamma_3, and 2^-150 per square that underflows), fl(r r) (u, and
+  // 2^-150), and the check's own two roundings (1 - u each).
+  const L K = CertifiedMargins::kBallScale, E = CertifiedMargins::kBallAbsolute;
+  EXPECT_LE((1 + u) / (K * std::pow(1 - u, 4.0L) * (1 - gamma(3))), 1.0L);
+  // E / 2 (what the roundings keep of it) covers 3 2^-150 for the squares, 2^-150 for r r and
+  // 2^-150 for the product s K, each grown by at most 1 / ((1 - gamma_3)(1 - u)^2).
+  EXPECT_GE(E / 2, 5 * std::ldexp(1.0L, -150) / ((1 - gamma(3)) * (1 - u) * (1 - u)));
 }

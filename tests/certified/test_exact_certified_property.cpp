@@ -82,11 +82,11 @@ bool float_pass(const ExactCertifiedFrustum& f, const Aabb& b, const glm::vec3& 
 }
 
 // The SIMD witness pass of the sphere batch on one sphere: whether it proves it intersecting.
-bool simd_witness(const ExactCertifiedFrustum& f, const Sphere& s) {
+bool simd_witness(const ExactCertifiedFrustum& f, const Sphere& s, const glm::vec3& seed) {
   const SphereSoa one{&s.center.x, &s.center.y, &s.center.z, &s.radius, 1};
   const std::uint64_t todo = 1;
   std::uint64_t meets = ~std::uint64_t{0};
-  certified_meets_spheres_bitset(f.certified, one, &todo, &meets);
+  certified_meets_spheres_bitset(f.certified, one, seed, &todo, &meets);
   return meets != 0;
 }
 
@@ -133,8 +133,13 @@ TEST_P(ExactCertifiedOnEveryFamily, EqualsTheOracle) {
     } else if (const Sphere* s = std::get_if<Sphere>(&g.volume)) {
       expect("sphere-exact-certified", exact_certified_sphere(f, *s));
       expect("sphere-batch-exact-certified", batch("sphere-batch-exact-certified", g.frustum, *s));
-      if (simd_witness(f, *s) && truth != Visibility::intersecting)
-        RC_FAIL("the SIMD witness pass proved a sphere intersecting whose truth is " + std::string(to_string(truth)));
+      // From the frame's seed, and from points around the ball.
+      const auto t = *rc::gen::container<std::vector<float>>(3, rc::gen::elementOf(std::vector<float>{-1.0f, -0.5f, 0.0f, 0.5f, 1.0f, 4.0f}));
+      const glm::vec3 seeds[2] = {glm::vec3(float(f.interior[0]), float(f.interior[1]), float(f.interior[2])),
+                                  s->center + glm::vec3(t[0], t[1], t[2]) * s->radius};
+      for (const glm::vec3& seed : seeds)
+        if (is_valid(Point{seed}) && simd_witness(f, *s, seed) && truth != Visibility::intersecting)
+          RC_FAIL("the SIMD witness pass proved a sphere intersecting whose truth is " + std::string(to_string(truth)));
     } else {
       const Point& p = std::get<Point>(g.volume);
       expect("aabb-exact-certified (the point as a box)", exact_certified_aabb(f, Aabb{p, p}));
