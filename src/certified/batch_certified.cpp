@@ -485,8 +485,10 @@ void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, con
 // the ball is not inside: the sphere test's own bound, which certified.cpp derives for r |n|
 // taken with either sign), and a float point x of the ball is strictly inside every plane,
 // fl(n'.x + d_in) >= fl(t_box M_x) with the box planes' margins (the point test). The points
-// tried: the centre, and x = c + k (g - c), k = min(1, 0.999 r / |g - c|), a step from the centre
-// towards the seed g (any float point: it is certified, not the step). x lies in the ball when
+// tried: the centre, and an estimate of the frustum's point nearest to it: the centre projected
+// onto each plane it lies outside of in turn, twice round, then moved 1/512 of the way towards
+// the seed g (inwards); any float point, since it is certified, not the estimate. x lies in the
+// ball when
 //   fl(fl(s K) + E) < fl(r r),  s = fl(sum fl(x_i - c_i)^2),  K = 1 + 2^-20, E = 2^-140:
 // a difference of floats is within u of the exact one (exact if it underflows), so the true
 // squared distance D <= sum fl(x_i - c_i)^2 / (1 - u)^2; the three squares and two sums, in any
@@ -496,6 +498,7 @@ void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, con
 // E / 2 covers the absolute terms (tests/certified/test_certified.cpp re-derives both). All hold
 // fused or not; a sphere whose M passes m_safe (or holds a NaN) gets no bit.
 void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_planes, int count, const float* g,
+                          const float* inv_norm2,
                           const float* x, const float* y, const float* z, const float* r, float t_box, float t_sphere,
                           float m_safe, std::size_t w0, std::size_t w1, const std::uint64_t* todo,
                           std::uint64_t* meets) {
@@ -505,7 +508,7 @@ void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_p
   const PlaneVecs<decltype(d)> pb(d, box_planes, count), ps(d, sphere_planes, count);
   const V tb = hn::Set(d, t_box), ts = hn::Set(d, t_sphere), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
   const V gv[3] = {hn::Set(d, g[0]), hn::Set(d, g[1]), hn::Set(d, g[2])};
-  const V one = hn::Set(d, 1.0f), step = hn::Set(d, 0.999f), K = hn::Set(d, CertifiedMargins::kBallScale),
+  const V inward = hn::Set(d, 0x1p-9f), K = hn::Set(d, CertifiedMargins::kBallScale),
           E = hn::Set(d, CertifiedMargins::kBallAbsolute);
   for (std::size_t w = w0; w < w1; ++w) {
     std::uint64_t bits = 0;
@@ -517,18 +520,24 @@ void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_p
         const V mc = hn::Max(hn::Abs(c[0]), hn::Max(hn::Abs(c[1]), hn::Abs(c[2])));
         const V m = hn::Add(mc, rad);
         // The step towards g, and its magnitude.
-        V dg[3], p[3];
-        for (int k = 0; k < 3; ++k) dg[k] = hn::Sub(gv[k], c[k]);
-        const V len = hn::Sqrt(hn::MulAdd(dg[2], dg[2], hn::MulAdd(dg[1], dg[1], hn::Mul(dg[0], dg[0]))));
-        const V kk = hn::Min(one, hn::Div(hn::Mul(step, rad), len));  // len = 0: +inf, then 1; NaN: no proof
-        for (int k = 0; k < 3; ++k) p[k] = hn::MulAdd(kk, dg[k], c[k]);
-        const V mp = hn::Max(hn::Abs(p[0]), hn::Max(hn::Abs(p[1]), hn::Abs(p[2])));
-        V wc = inf, wp = inf, wq = inf;
+        V wc = inf, wq = inf;
         for (int k = 0; k < count; ++k) {
           wc = hn::Min(wc, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], c[0], c[1], c[2]));
-          wp = hn::Min(wp, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], p[0], p[1], p[2]));
           wq = hn::Min(wq, hn::NegMulAdd(rad, ps.len[k], plane3(ps.nx[k], ps.ny[k], ps.nz[k], ps.dout[k], c[0], c[1], c[2])));
         }
+        V p[3] = {c[0], c[1], c[2]};
+        for (int round = 0; round < 2; ++round)
+          for (int k = 0; k < count; ++k) {
+            const V s = hn::Min(plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], p[0], p[1], p[2]), hn::Zero(d));
+            const V f = hn::Mul(s, hn::Set(d, inv_norm2[k]));  // <= 0: moves p onto the plane
+            p[0] = hn::NegMulAdd(f, pb.nx[k], p[0]);
+            p[1] = hn::NegMulAdd(f, pb.ny[k], p[1]);
+            p[2] = hn::NegMulAdd(f, pb.nz[k], p[2]);
+          }
+        for (int k = 0; k < 3; ++k) p[k] = hn::MulAdd(inward, hn::Sub(gv[k], p[k]), p[k]);
+        const V mp = hn::Max(hn::Abs(p[0]), hn::Max(hn::Abs(p[1]), hn::Abs(p[2])));
+        V wp = inf;
+        for (int k = 0; k < count; ++k) wp = hn::Min(wp, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], p[0], p[1], p[2]));
         V e[3];
         for (int k = 0; k < 3; ++k) e[k] = hn::Sub(p[k], c[k]);
         const V sq = hn::MulAdd(e[2], e[2], hn::MulAdd(e[1], e[1], hn::Mul(e[0], e[0])));
@@ -817,14 +826,16 @@ void certified_meets_spheres_bitset(const CertifiedFrustum& frustum, const Spher
   if (f.empty || f.active_count == 0) return clear(words, meets, nullptr);
   CertPlane box[6], ball[6];
   const float g[3] = {seed.x, seed.y, seed.z};
+  float inv_norm2[6];  // 1 / |n'|^2 (an estimate: only where the projections go)
   for (int i = 0; i < f.active_count; ++i) {
     const CertifiedPlane& p = f.fast_box[static_cast<std::size_t>(i)];
     const CertifiedPlane& q = f.fast_sphere[static_cast<std::size_t>(i)];
     box[i] = CertPlane{p.nx, p.ny, p.nz, p.d_out, p.d_in, p.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
     ball[i] = CertPlane{q.nx, q.ny, q.nz, q.d_out, q.d_in, q.norm, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+    inv_norm2[i] = p.norm > 0.0f ? 1.0f / (p.norm * p.norm) : 0.0f;
   }
   auto run = [&](const SphereSoa& q, std::size_t w0, std::size_t w1, const std::uint64_t* in, std::uint64_t* out) {
-    HWY_DYNAMIC_DISPATCH(CertSphereMeetKernel)(box, ball, f.active_count, g, q.x, q.y, q.z, q.radius, f.t_box,
+    HWY_DYNAMIC_DISPATCH(CertSphereMeetKernel)(box, ball, f.active_count, g, inv_norm2, q.x, q.y, q.z, q.radius, f.t_box,
                                                f.t_sphere, f.m_safe, w0, w1, in, out);
   };
   const std::size_t full = s.count / 64, rest = s.count - full * 64;

@@ -163,20 +163,66 @@ void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes,
   open.flush();
 }
 
-void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& spheres, Visibility* verdicts) {
-  const glm::vec3 seed = witness_seed(f);
-  std::uint64_t vis[kChunk / 64], ins[kChunk / 64], todo[kChunk / 64], meets[kChunk / 64];
-  for (std::size_t i0 = 0; i0 < spheres.count; i0 += kChunk) {
-    const std::size_t m = std::min(kChunk, spheres.count - i0);
-    const SphereSoa part{spheres.x + i0, spheres.y + i0, spheres.z + i0, spheres.radius + i0, m};
-    certified_cull_spheres_bitset(f.certified, part, vis, ins);
-    const std::size_t words = bitset_words(m);
-    for (std::size_t w = 0; w < words; ++w) todo[w] = vis[w] & ~ins[w];
-    certified_meets_spheres_bitset(f.certified, part, seed, todo, meets);
-    settle(vis, ins, meets, m, verdicts + i0, [&](std::size_t j) {
-      return exact_certified_sphere(f, Sphere{{part.x[j], part.y[j], part.z[j]}, part.radius[j]});
-    });
+namespace {
+
+// The spheres the certified batch left undecided, gathered across chunks (the witness pass then
+// runs on whole vectors of them however few are left) and settled once kChunk are gathered, and
+// at the end: the witness pass, the cascade for what it leaves. verdicts[i]: sphere i's verdict.
+class OpenSpheres {
+ public:
+  OpenSpheres(const ExactCertifiedFrustum& f, Visibility* verdicts) noexcept
+      : f_(f), verdicts_(verdicts), seed_(witness_seed(f)) {}
+
+  // Sphere j of `part` (bit j of `open`) is sphere base + j of the array.
+  void add(const SphereSoa& part, std::size_t base, const std::uint64_t* open) {
+    const float* src[4] = {part.x, part.y, part.z, part.radius};
+    for (std::size_t w = 0; w < bitset_words(part.count); ++w)
+      for (std::uint64_t b = open[w]; b != 0; b &= b - 1) {
+        const std::size_t j = w * 64 + std::size_t(__builtin_ctzll(b));
+        index_[n_] = base + j;
+        for (int k = 0; k < 4; ++k) ball_[k][n_] = src[k][j];
+        if (++n_ == kChunk) flush();
+      }
   }
+
+  void flush() {
+    if (n_ == 0) return;
+    std::uint64_t todo[kChunk / 64], meets[kChunk / 64];
+    for (std::size_t w = 0; w < bitset_words(n_); ++w) todo[w] = n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1;
+    certified_meets_spheres_bitset(f_.certified, SphereSoa{ball_[0], ball_[1], ball_[2], ball_[3], n_}, seed_, todo, meets);
+    for (std::size_t q = 0; q < n_; ++q)
+      verdicts_[index_[q]] = (meets[q / 64] >> (q % 64) & 1u)
+                                 ? Visibility::intersecting
+                                 : exact_certified_sphere(f_, Sphere{{ball_[0][q], ball_[1][q], ball_[2][q]}, ball_[3][q]});
+    n_ = 0;
+  }
+
+ private:
+  const ExactCertifiedFrustum& f_;
+  Visibility* verdicts_;
+  glm::vec3 seed_;
+  std::size_t n_ = 0;
+  std::size_t index_[kChunk];
+  alignas(64) float ball_[4][kChunk];
+};
+
+void sphere_chunk(const ExactCertifiedFrustum& f, const SphereSoa& part, std::size_t base, Visibility* verdicts,
+                  OpenSpheres& open) {
+  std::uint64_t vis[kChunk / 64], ins[kChunk / 64], todo[kChunk / 64];
+  certified_cull_spheres_bitset(f.certified, part, vis, ins);
+  for (std::size_t w = 0; w < bitset_words(part.count); ++w) todo[w] = vis[w] & ~ins[w];
+  for (std::size_t j = 0; j < part.count; ++j) verdicts[base + j] = detail::bit_verdict(vis, ins, j);  // open: at flush
+  open.add(part, base, todo);
+}
+
+}  // namespace
+
+void exact_certified_spheres(const ExactCertifiedFrustum& f, const SphereSoa& spheres, Visibility* verdicts) {
+  OpenSpheres open(f, verdicts);
+  for (std::size_t i0 = 0; i0 < spheres.count; i0 += kChunk)
+    sphere_chunk(f, SphereSoa{spheres.x + i0, spheres.y + i0, spheres.z + i0, spheres.radius + i0, std::min(kChunk, spheres.count - i0)},
+                 i0, verdicts, open);
+  open.flush();
 }
 
 void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, std::size_t n, Visibility* verdicts) {
@@ -189,8 +235,10 @@ void exact_certified_aabbs(const ExactCertifiedFrustum& f, const Aabb* boxes, st
 
 void exact_certified_spheres(const ExactCertifiedFrustum& f, const Sphere* spheres, std::size_t n, Visibility* verdicts) {
   alignas(64) float a[4][kChunk];
+  OpenSpheres open(f, verdicts);
   for (std::size_t i0 = 0; i0 < n; i0 += kChunk)
-    exact_certified_spheres(f, detail::sphere_soa(spheres + i0, std::min(kChunk, n - i0), a), verdicts + i0);
+    sphere_chunk(f, detail::sphere_soa(spheres + i0, std::min(kChunk, n - i0), a), i0, verdicts, open);
+  open.flush();
 }
 
 }  // namespace cullproof

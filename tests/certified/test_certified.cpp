@@ -342,22 +342,23 @@ TEST(CertifiedBatch, TheWitnessPassProvesBoxesThatCrossAPlane) {
   for (std::uint64_t w : meets) EXPECT_EQ(w, 0u);
 }
 
-// The sphere witness pass: a point of the ball (its centre, or a step from it towards the seed
-// (0, 0, -2)) certified inside every plane, and the ball reaching past one; same frustum,
-// spheres past a word.
+// The sphere witness pass: a point of the ball (its centre, or the frustum's point nearest to it,
+// estimated and moved inwards towards the seed (0, 0, -2)) certified inside every plane and the
+// ball, and the ball reaching past one; same frustum, spheres past a word.
 TEST(CertifiedBatch, TheSphereWitnessPassProvesBallsThatCrossAPlane) {
   const CertifiedFrustum f = certify_planes(F());
   const std::vector<Sphere> kinds = {
       Sphere{{1.5f, 0.0f, -2.0f}, 1.0f},     // centre inside, reaches past x = -z: proved
       Sphere{{0.0f, 0.0f, -2.0f}, 0.25f},    // inside: no point outside, no bit
       Sphere{{0.0f, 0.0f, -2.0f}, 0.999f},   // inside still (the nearest plane is 1.41 away): no bit
-      Sphere{{2.5f, 0.0f, -2.0f}, 1.0f},     // centre outside; the step reaches (1.501, 0, -2): proved
+      Sphere{{2.5f, 0.0f, -2.0f}, 1.0f},     // centre outside, 0.354 from x = -z: proved
       Sphere{{9.0f, 9.0f, -2.0f}, 1.0f},     // outside: no bit
       Sphere{{0.0f, 0.0f, -2.0f}, 3e38f},    // holds the frustum, but M > m_safe: no bit
-      Sphere{{0.0f, 0.0f, -1.0f}, 0.5f},     // centre on the near plane, the step stays inside: proved
-      Sphere{{2.5f, 0.0f, -2.0f}, 0.5001f},  // meets x = 2 only within 1e-4: the step ends outside, no bit
+      Sphere{{0.0f, 0.0f, -1.0f}, 0.5f},     // centre on the near plane: proved
+      Sphere{{2.5f, 0.0f, -2.0f}, 0.354f},   // 0.3536 from x = -z: the point moved inwards leaves it, no bit
+      Sphere{{2.5f, 0.0f, -2.0f}, 0.5f},     // 0.354 from x = -z: proved
   };
-  const std::vector<bool> proved = {true, false, false, true, false, false, true, false};
+  const std::vector<bool> proved = {true, false, false, true, false, false, true, false, true};
   std::vector<float> a[4];
   const std::size_t n = 75;
   for (std::size_t i = 0; i < n; ++i) {
