@@ -1,9 +1,10 @@
-// Certified-exact culling of arrays (cullproof/exact_certified_batch.hpp): the SIMD certified
-// batch first (src/certified/batch_certified.cpp: outside and inside proved with float margins,
-// Highway runtime dispatch); for AABBs it leaves undecided, a second SIMD pass that proves them
-// intersecting by a witness point (the frame's interior point clamped to the box, or the box's
-// centre) and a vertex outside some plane; then the cascade (src/certified/exact_certified.cpp)
-// for every volume still undecided. Every stage is certified, so the verdicts are the exact truth.
+// Certified-exact culling of arrays (cullproof/exact_certified_batch.hpp), in passes that each
+// only prove: the SIMD certified batch (src/certified/batch_certified.cpp: outside and inside with
+// float margins, Highway runtime dispatch); the witness pass on what it leaves (a float point of
+// the volume proved inside every plane, a point proved outside one); for AABBs, the float pass on
+// the planes and the frame's combinations (src/certified/batch_combinations.cpp); and the scalar
+// cascade (src/certified/exact_certified.cpp) for every volume still open. Every stage is
+// certified, so the verdicts are the exact truth (docs/exact-culling.md, "Array forms").
 #include "cullproof/exact_certified_batch.hpp"
 
 #include "batch_adapter.hpp"

@@ -119,13 +119,13 @@ void register_certified_methods(std::vector<Method>& out) {
       exact_frustum, [](const ExactCertifiedFrustum& f, const Sphere& s) { return exact_certified_sphere(f, s); }));
   out.push_back(make_method(
       exact_certified("aabb-batch-exact-certified",
-                      "array form of aabb-exact-certified: the SIMD certified batch first, the cascade for the rest; one volume runs as a full word of 64 copies",
+                      "array form of aabb-exact-certified: the SIMD certified batch, its witness and float passes, the cascade for the rest; one volume runs as a full word of 64 copies",
                       kAabbKind),
       exact_frustum, [](const ExactCertifiedFrustum& f, const Aabb& b) { return exact_aabb_as_word(f, b); },
       [](const ExactCertifiedFrustum& f, const Aabb* b, std::size_t n, Visibility* v) { exact_certified_aabbs(f, b, n, v); }));
   out.push_back(make_method(
       exact_certified("sphere-batch-exact-certified",
-                      "array form of sphere-exact-certified: the SIMD certified batch first, the cascade for the rest; one volume runs as a full word of 64 copies",
+                      "array form of sphere-exact-certified: the SIMD certified batch, its witness pass, the cascade for the rest; one volume runs as a full word of 64 copies",
                       kSphereKind),
       exact_frustum, [](const ExactCertifiedFrustum& f, const Sphere& s) { return exact_sphere_as_word(f, s); },
       [](const ExactCertifiedFrustum& f, const Sphere* s, std::size_t n, Visibility* v) {

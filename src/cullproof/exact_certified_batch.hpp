@@ -1,8 +1,9 @@
 // Certified-exact culling of arrays (library cullproof::simd): the SIMD certified batch
 // (cullproof/certified_batch.hpp) decides what lies clearly outside or clearly inside, with its
-// float margins, several volumes per instruction; every other volume goes through the scalar
-// cascade of cullproof/exact_certified.hpp. The verdicts are those of the scalar functions: the
-// exact truth.
+// float margins, several volumes per instruction; SIMD passes prove what they can of the rest
+// (witness points; for boxes, the planes and the frame's combinations in float); every other
+// volume goes through the scalar cascade of cullproof/exact_certified.hpp. The verdicts are those
+// of the scalar functions: the exact truth.
 #pragma once
 
 #include "cullproof/cull_batch.hpp"
