@@ -40,12 +40,10 @@ HWY_INLINE hn::Vec<D> load_box(D d, const float* const* lo, const float* const* 
   return hn::BitCast(d, xb);
 }
 
-// An item's value at the vertex of the box that maximises (kMax) or minimises its C.x.
-template <bool kMax, class V>
-HWY_INLINE V item_value(const ExactCertifiedFrustum::FloatItem& it, V cx, V cy, V cz, V dd, const V (&box)[2][3]) {
-  const int sx = kMax ? it.max[0] : 1 - it.max[0], sy = kMax ? it.max[1] : 1 - it.max[1],
-            sz = kMax ? it.max[2] : 1 - it.max[2];
-  return hn::MulAdd(cz, box[sz][2], hn::MulAdd(cy, box[sy][1], hn::MulAdd(cx, box[sx][0], dd)));
+// An item's value at the vertex of the box that maximises its C.x (its p-vertex).
+template <class V>
+HWY_INLINE V p_vertex_value(const ExactCertifiedFrustum::FloatItem& it, V cx, V cy, V cz, V dd, const V (&box)[2][3]) {
+  return hn::MulAdd(cz, box[it.max[2]][2], hn::MulAdd(cy, box[it.max[1]][1], hn::MulAdd(cx, box[it.max[0]][0], dd)));
 }
 
 // The value of an item at a point x: fl(C.x + D), the multiply-adds in one order (any is sound).
@@ -96,11 +94,11 @@ struct FirstPlanes {
 // `no_combination`). Boxes with X > x_safe (or a NaN) are open, with meet_ok clear. The witness
 // points are not tried for boxes whose bit is set in `tried` (may be null).
 template <int kCount>
-HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, int count, bool complete, float x_safe, std::uint64_t no_combination, const float* seed, const std::uint64_t* tried,
+HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, int count, bool complete, float x_safe,
+                               std::uint64_t no_combination, const float* seed, const std::uint64_t* tried,
                                const float* const* lo, const float* const* hi, std::size_t n, std::uint32_t* J,
-                               std::uint64_t* outside,
-                               std::uint64_t* inside, std::uint64_t* meets, std::uint64_t* open,
-                               std::uint64_t* meet_ok) {
+                               std::uint64_t* outside, std::uint64_t* inside, std::uint64_t* meets,
+                               std::uint64_t* open, std::uint64_t* meet_ok) {
   const hn::ScalableTag<float> d;
   const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
@@ -185,9 +183,9 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
 
 void FloatFirstKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, bool complete, float x_safe,
                       std::uint64_t no_combination, const float* seed, const std::uint64_t* tried,
-                      const float* const* lo, const float* const* hi,
-                      std::size_t n, std::uint32_t* J, std::uint64_t* outside, std::uint64_t* inside,
-                      std::uint64_t* meets, std::uint64_t* open, std::uint64_t* meet_ok) {
+                      const float* const* lo, const float* const* hi, std::size_t n, std::uint32_t* J,
+                      std::uint64_t* outside, std::uint64_t* inside, std::uint64_t* meets, std::uint64_t* open,
+                      std::uint64_t* meet_ok) {
   if (planes == 6)
     return FloatFirstImpl<6>(items, planes, complete, x_safe, no_combination, seed, tried, lo, hi, n, J, outside,
                              inside, meets, open, meet_ok);
@@ -229,7 +227,7 @@ void FloatCombinationsKernel(const ExactCertifiedFrustum::FloatItem* items, cons
           const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
           const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
           const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
-          const V vp = item_value<true>(it, cx, cy, cz, dd, box);
+          const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
           out = hn::Or(out, hn::Lt(vp, hn::Neg(theta)));
           fail = hn::Or(fail, hn::Lt(vp, theta));
         }
@@ -241,7 +239,7 @@ void FloatCombinationsKernel(const ExactCertifiedFrustum::FloatItem* items, cons
           const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
           const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
           const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
-          const V vp = item_value<true>(it, cx, cy, cz, dd, box);
+          const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
           const Mk within = hn::And(not_held[it.member[0]], hn::And(not_held[it.member[1]], not_held[it.member[2]]));
           out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
           fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
