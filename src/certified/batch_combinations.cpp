@@ -217,34 +217,19 @@ void FloatCombinationsKernel(const ExactCertifiedFrustum::FloatItem* items, cons
     const auto jv = hn::LoadU(du, J + i);
     Mk out = none, fail = none;
     // Only within J does a combination prove anything (outside J, one of its planes holds the
-    // box, and where the others are >= 0 so is it) or need to be positive. When every box of the
-    // vector has the same J (boxes past n have J = 0 and no verdict), each combination
-    // evaluated is within it for all of them.
-    const bool same = hn::AllTrue(d, hn::RebindMask(d, hn::Or(hn::Eq(jv, hn::Set(du, any)), hn::Eq(jv, hn::Zero(du)))));
-    if (same) {
-      for (std::size_t w = 0; w < 2; ++w)
-        for (std::uint64_t bits = comb_in[2 * any + w]; bits != 0; bits &= bits - 1) {
-          const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
-          const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
-          const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
-          const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
-          out = hn::Or(out, hn::Lt(vp, hn::Neg(theta)));
-          fail = hn::Or(fail, hn::Lt(vp, theta));
-        }
-    } else {
-      Mk not_held[6];
-      for (int j = 0; j < 6; ++j) not_held[j] = hn::RebindMask(d, hn::TestBit(jv, hn::Set(du, 1u << j)));
-      for (std::size_t w = 0; w < 2; ++w)
-        for (std::uint64_t bits = comb_in[2 * any + w]; bits != 0; bits &= bits - 1) {
-          const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
-          const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
-          const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
-          const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
-          const Mk within = hn::And(not_held[it.member[0]], hn::And(not_held[it.member[1]], not_held[it.member[2]]));
-          out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
-          fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
-        }
-    }
+    // box, and where the others are >= 0 so is it) or need to be positive.
+    Mk not_held[6];
+    for (int j = 0; j < 6; ++j) not_held[j] = hn::RebindMask(d, hn::TestBit(jv, hn::Set(du, 1u << j)));
+    for (std::size_t w = 0; w < 2; ++w)
+      for (std::uint64_t bits = comb_in[2 * any + w]; bits != 0; bits &= bits - 1) {
+        const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
+        const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
+        const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
+        const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
+        const Mk within = hn::And(not_held[it.member[0]], hn::And(not_held[it.member[1]], not_held[it.member[2]]));
+        out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
+        fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
+      }
     const Mk meet = hn::Not(fail);
     const Mk proved_out = hn::And(out, hn::Le(x, safe));  // false for NaN
     const std::uint64_t keep = lanes(std::min(N, n - i));
