@@ -20,19 +20,6 @@ namespace {
 
 constexpr std::size_t kChunk = detail::kSoaChunk;
 
-// A chunk's verdicts: outside and inside where the certified batch proved them, intersecting
-// where it or `proved` (may be null) did, the cascade (rest(j)) for the others.
-template <class Rest>
-void settle(const std::uint64_t* vis, const std::uint64_t* ins, const std::uint64_t* proved, std::size_t m,
-            Visibility* verdicts, Rest&& rest) {
-  for (std::size_t j = 0; j < m; ++j) verdicts[j] = detail::bit_verdict(vis, ins, j);
-  for (std::size_t w = 0; w * 64 < m; ++w)
-    for (std::uint64_t r = vis[w] & ~ins[w] & ~(proved ? proved[w] : 0); r != 0; r &= r - 1) {
-      const std::size_t j = w * 64 + std::size_t(__builtin_ctzll(r));
-      if (j < m) verdicts[j] = rest(j);
-    }
-}
-
 // The seed of the witness points: the frame's interior point, rounded to float (any point is
 // sound; the clamped point is certified, not the seed).
 glm::vec3 witness_seed(const ExactCertifiedFrustum& f) noexcept {
