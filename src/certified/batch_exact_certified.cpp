@@ -29,7 +29,7 @@ glm::vec3 witness_seed(const ExactCertifiedFrustum& f) noexcept {
 // The boxes the certified batch (and, in a chunk where it leaves many, the witness pass) left
 // undecided, gathered across chunks so that the float passes run on whole vectors however few
 // are left, then settled (`flush`, once kChunk are gathered, and at the end): the first float
-// pass (planes, witness points), then, sorted by J, the float pass on the combinations, and the
+// pass (planes, witness points), then, in place, the float pass on the combinations, and the
 // cascade for what both leave. verdicts[i] receives box i's verdict.
 class OpenBoxes {
  public:
@@ -67,35 +67,23 @@ class OpenBoxes {
     settle_bits(r.outside, words, Visibility::outside);
     settle_bits(r.inside, words, Visibility::inside);
     settle_bits(r.meets, words, Visibility::intersecting);
-    // The open ones sorted by J: boxes with the same planes left side by side (the combinations
-    // kernel evaluates the combinations within the union of a vector's J).
-    std::size_t start[65] = {};
-    for (std::size_t w = 0; w < words; ++w)
-      for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) ++start[r.J[w * 64 + std::size_t(__builtin_ctzll(b))] + 1];
-    for (std::size_t j = 0; j < 64; ++j) start[j + 1] += start[j];
-    const std::size_t m = start[64];
-    std::uint64_t ok[kOpen / 64] = {}, out[kOpen / 64], met[kOpen / 64];
+    // The open ones in place: decided boxes take J = 0 (no combination), so that a vector's
+    // combinations are those within the union of its open boxes' J (grouping the boxes by J
+    // first costs about what it saves).
+    std::uint64_t out[kOpen / 64], met[kOpen / 64], ok[kOpen / 64];
+    for (std::size_t q = 0; q < bitset_words(n_) * 64; ++q) J_[q] = (r.open[q / 64] >> (q % 64) & 1u) ? r.J[q] : 0u;
+    for (std::size_t w = 0; w < words; ++w) ok[w] = r.meet_ok[w] & r.open[w];
+    for (std::size_t q = n_; q < bitset_words(n_) * 64; ++q)
+      for (int k = 0; k < 6; ++k) box_[k][q] = 0.0f;
+    exact_float_combinations(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, J_, ok, out, met);
     for (std::size_t w = 0; w < words; ++w)
       for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) {
-        const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b)), s = start[r.J[q]]++;
-        rest_[s] = index_[q];
-        J_[s] = r.J[q];
-        ok[s / 64] |= (r.meet_ok[w] >> (q % 64) & 1u) << (s % 64);
-        for (int k = 0; k < 6; ++k) left_[k][s] = box_[k][q];
+        const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
+        const std::uint64_t bit = std::uint64_t{1} << (q % 64);
+        verdicts_[first_ + index_[q]] = (out[w] & bit)   ? Visibility::outside
+                                        : (met[w] & bit) ? Visibility::intersecting
+                                                         : cascade(box_, q);
       }
-    for (std::size_t s = m; s < bitset_words(m) * 64; ++s) {  // whole words for the kernel to read
-      J_[s] = 0;
-      for (int k = 0; k < 6; ++k) left_[k][s] = 0.0f;
-    }
-    if (m > 0)
-      exact_float_combinations(f_, AabbSoa{left_[0], left_[1], left_[2], left_[3], left_[4], left_[5], m}, J_, ok, out,
-                               met);
-    for (std::size_t s = 0; s < m; ++s) {
-      const std::uint64_t bit = std::uint64_t{1} << (s % 64);
-      verdicts_[first_ + rest_[s]] = (out[s / 64] & bit)   ? Visibility::outside
-                                     : (met[s / 64] & bit) ? Visibility::intersecting
-                                                           : cascade(left_, s);
-    }
     n_ = 0;
   }
 
@@ -114,10 +102,10 @@ class OpenBoxes {
   Visibility* verdicts_;
   glm::vec3 seed_;
   std::size_t n_ = 0, first_ = 0;
-  std::uint32_t index_[kOpen], rest_[kOpen], J_[kOpen];
+  std::uint32_t index_[kOpen], J_[kOpen];
   std::uint64_t tried_[kOpen / 64] = {};
   FloatFirstResult first_pass_;
-  alignas(64) Boxes box_, left_;
+  alignas(64) Boxes box_;
 };
 
 // One chunk (at most kChunk boxes, the array's boxes base ..): the certified batch's verdicts;
