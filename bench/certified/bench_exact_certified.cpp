@@ -15,7 +15,12 @@
 //                                            volumes decided by each stage) and cases; the timed
 //                                            loop classifies the volumes that reach the exact
 //                                            stage (ns_per_test: the cost of one such volume)
+//   passes/aabb/<distribution>               the AABB array form's passes on the generic frames:
+//                                            counters, fractions of all boxes, of what each
+//                                            leaves open (nothing is timed)
+#include "batch_combinations.hpp"  // the array form's float passes (not installed)
 #include "cullproof/certified.hpp"
+#include "cullproof/certified_batch.hpp"
 #include "cullproof/exact_certified.hpp"
 #include "cullproof/generators.hpp"
 #include "cullproof/methods.hpp"
@@ -213,6 +218,83 @@ void register_stages(const char* kind, Classify classify) {
   }
 }
 
+// The AABB array form's passes, each on what the one before leaves (as exact_certified_aabbs runs
+// them, but with the witness pass on every chunk), per distribution over the frames of batch/:
+//   certified       left by the certified SIMD batch (neither outside nor inside proved);
+//   exact_planes    left by the exact planes' float items, each with its own threshold, tried
+//                   on the same boxes instead (no witness point): the open set is the same when
+//                   the boxes left cross a plane rather than lie within the certified margin;
+//   witness         left by the witness pass (a point of the box proved inside every plane);
+//   float_planes    left by the float pass's planes (J, and a p-vertex shared by J proved inside);
+//   combinations    left by the frame's combinations: what reaches the scalar cascade.
+void register_passes() {
+  for (const std::string& d : distributions()) {
+    benchmark::RegisterBenchmark(("passes/aabb/" + d).c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Aabb>(d);
+      std::size_t left[5] = {}, total = 0;
+      constexpr std::size_t kChunk = 256;
+      alignas(64) float a[6][kChunk];
+      for (std::size_t f = 0; f < fr.volumes.size(); ++f) {
+        const ExactCertifiedFrustum& ef = fr.exact[f];
+        if (ef.float_planes == 0) continue;
+        const glm::vec3 seed(float(ef.interior[0]), float(ef.interior[1]), float(ef.interior[2]));
+        for (std::size_t i0 = 0; i0 < fr.volumes[f].size(); i0 += kChunk) {
+          const std::size_t m = std::min(kChunk, fr.volumes[f].size() - i0);
+          for (std::size_t j = 0; j < m; ++j) {
+            const Aabb& b = fr.volumes[f][i0 + j];
+            a[0][j] = b.min.x, a[1][j] = b.min.y, a[2][j] = b.min.z, a[3][j] = b.max.x, a[4][j] = b.max.y, a[5][j] = b.max.z;
+          }
+          const AabbSoa chunk{a[0], a[1], a[2], a[3], a[4], a[5], m};
+          total += m;
+          std::uint64_t vis[kChunk / 64] = {}, ins[kChunk / 64] = {}, todo[kChunk / 64] = {}, meets[kChunk / 64] = {},
+                        all[kChunk / 64];
+          for (std::uint64_t& w : all) w = ~std::uint64_t{0};
+          certified_cull_aabbs_bitset(ef.certified, chunk, vis, ins);
+          for (std::size_t w = 0; w < bitset_words(m); ++w) todo[w] = vis[w] & ~ins[w];
+          FloatFirstResult planes_only;
+          exact_float_first(ef, chunk, seed, planes_only, all);
+          certified_meets_aabbs_bitset(ef.certified, chunk, seed, todo, meets);
+          // The boxes the witness pass leaves, gathered, through the float pass (their witness
+          // points tried) and the combinations.
+          alignas(64) float g[6][kChunk];
+          std::size_t n = 0;
+          for (std::size_t j = 0; j < m; ++j) {
+            const std::uint64_t bit = std::uint64_t{1} << (j % 64);
+            const bool open = todo[j / 64] & bit, met = meets[j / 64] & bit;
+            left[0] += open;
+            left[1] += bool((planes_only.open[j / 64] | planes_only.meets[j / 64]) & bit);
+            if (!open || met) continue;
+            for (int k = 0; k < 6; ++k) g[k][n] = a[k][j];
+            ++n;
+          }
+          left[2] += n;
+          if (n == 0) continue;
+          for (std::size_t q = n; q < bitset_words(n) * 64; ++q)
+            for (int k = 0; k < 6; ++k) g[k][q] = 0.0f;
+          const AabbSoa gathered{g[0], g[1], g[2], g[3], g[4], g[5], n};
+          FloatFirstResult r;
+          exact_float_first(ef, gathered, seed, r, all);
+          std::uint32_t J[kChunk] = {};
+          std::uint64_t ok[kChunk / 64] = {}, out[kChunk / 64], met[kChunk / 64];
+          for (std::size_t q = 0; q < n; ++q) {
+            const bool open = r.open[q / 64] >> (q % 64) & 1u;
+            J[q] = open ? r.J[q] : 0u;
+            left[3] += open;
+          }
+          for (std::size_t w = 0; w < bitset_words(n); ++w) ok[w] = r.meet_ok[w] & r.open[w];
+          exact_float_combinations(ef, gathered, J, ok, out, met);
+          for (std::size_t w = 0; w < bitset_words(n); ++w)
+            left[4] += std::size_t(__builtin_popcountll(r.open[w] & ~out[w] & ~met[w]));
+        }
+      }
+      for (auto _ : s) benchmark::DoNotOptimize(total);
+      const char* names[5] = {"certified", "exact_planes", "witness", "float_planes", "combinations"};
+      for (int k = 0; k < 5; ++k) s.counters[names[k]] = total ? double(left[k]) / double(total) : 0.0;
+      s.counters["boxes"] = double(total);
+    });
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -227,6 +309,7 @@ int main(int argc, char** argv) {
   register_batch<Aabb>("aabb", "aabb-batch-exact-certified");
   register_batch<Sphere>("sphere", "sphere-batch-certified");
   register_batch<Sphere>("sphere", "sphere-batch-exact-certified");
+  register_passes();
   register_stages<Aabb>("aabb", [](const ExactCertifiedFrustum& f, const Aabb& b, ExactStage* s) {
     return exact_certified_aabb(f, b, s);
   });
