@@ -18,6 +18,7 @@
 //   passes/aabb/<distribution>               the AABB array form's passes on the generic frames:
 //                                            counters, fractions of all boxes, of what each
 //                                            leaves open (nothing is timed)
+#include "batch_adapter.hpp"       // AoS to SoA chunks (not installed)
 #include "batch_combinations.hpp"  // the array form's float passes (not installed)
 #include "cullproof/certified.hpp"
 #include "cullproof/certified_batch.hpp"
@@ -232,7 +233,7 @@ void register_passes() {
     benchmark::RegisterBenchmark(("passes/aabb/" + d).c_str(), [d](benchmark::State& s) {
       const auto& fr = frames<Aabb>(d);
       std::size_t left[5] = {}, total = 0;
-      constexpr std::size_t kChunk = 256;
+      constexpr std::size_t kChunk = detail::kSoaChunk;
       alignas(64) float a[6][kChunk];
       for (std::size_t f = 0; f < fr.volumes.size(); ++f) {
         const ExactCertifiedFrustum& ef = fr.exact[f];
@@ -240,11 +241,7 @@ void register_passes() {
         const glm::vec3 seed(float(ef.interior[0]), float(ef.interior[1]), float(ef.interior[2]));
         for (std::size_t i0 = 0; i0 < fr.volumes[f].size(); i0 += kChunk) {
           const std::size_t m = std::min(kChunk, fr.volumes[f].size() - i0);
-          for (std::size_t j = 0; j < m; ++j) {
-            const Aabb& b = fr.volumes[f][i0 + j];
-            a[0][j] = b.min.x, a[1][j] = b.min.y, a[2][j] = b.min.z, a[3][j] = b.max.x, a[4][j] = b.max.y, a[5][j] = b.max.z;
-          }
-          const AabbSoa chunk{a[0], a[1], a[2], a[3], a[4], a[5], m};
+          const AabbSoa chunk = detail::aabb_soa(fr.volumes[f].data() + i0, m, a);
           total += m;
           std::uint64_t vis[kChunk / 64] = {}, ins[kChunk / 64] = {}, todo[kChunk / 64] = {}, meets[kChunk / 64] = {},
                         all[kChunk / 64];
@@ -275,14 +272,13 @@ void register_passes() {
           FloatFirstResult r;
           exact_float_first(ef, gathered, seed, r, all);
           std::uint32_t J[kChunk] = {};
-          std::uint64_t ok[kChunk / 64] = {}, out[kChunk / 64], met[kChunk / 64];
+          std::uint64_t out[kChunk / 64], met[kChunk / 64];
           for (std::size_t q = 0; q < n; ++q) {
             const bool open = r.open[q / 64] >> (q % 64) & 1u;
             J[q] = open ? r.J[q] : 0u;
             left[3] += open;
           }
-          for (std::size_t w = 0; w < bitset_words(n); ++w) ok[w] = r.meet_ok[w] & r.open[w];
-          exact_float_combinations(ef, gathered, J, ok, out, met);
+          exact_float_combinations(ef, gathered, J, r.meet_ok, out, met);
           for (std::size_t w = 0; w < bitset_words(n); ++w)
             left[4] += std::size_t(__builtin_popcountll(r.open[w] & ~out[w] & ~met[w]));
         }

@@ -135,13 +135,6 @@ HWY_INLINE void prefetch_ahead(const CertPlane& p0, std::size_t w, std::size_t t
     for (int l = 0; l < 64; l += 16) __builtin_prefetch(arr[c] + (w + kPrefetchAhead) * 64 + l);
 }
 
-// |x| as bits (sign cleared): for non-negative floats the unsigned order of the bits is the
-// order of the values, and a NaN sorts above infinity, so M over bits is exact and NaN-proof.
-template <class DU, class V>
-HWY_INLINE hn::Vec<DU> abs_bits(DU du, V v) {
-  return hn::And(hn::BitCast(du, v), hn::Set(du, 0x7fffffffu));
-}
-
 // Boxes of words [w_begin, w_end), the general case (no two planes in opposite octants, or
 // fewer than six active planes): M from the six arrays. kCount: 6 (unrolled) or 0 (count at
 // run time).

@@ -31,11 +31,10 @@ HWY_INLINE hn::Vec<D> load_box(D d, const float* const* lo, const float* const* 
                                hn::Vec<D> (&box)[2][3]) {
   const hn::RebindToUnsigned<D> du;
   auto xb = hn::Zero(du);
-  const auto abs_mask = hn::Set(du, 0x7fffffffu);
   for (int k = 0; k < 3; ++k) {
     box[0][k] = hn::LoadU(d, lo[k] + i);
     box[1][k] = hn::LoadU(d, hi[k] + i);
-    xb = hn::Max(xb, hn::Max(hn::And(hn::BitCast(du, box[0][k]), abs_mask), hn::And(hn::BitCast(du, box[1][k]), abs_mask)));
+    xb = hn::Max(xb, hn::Max(abs_bits(du, box[0][k]), abs_bits(du, box[1][k])));
   }
   return hn::BitCast(d, xb);
 }
@@ -108,15 +107,13 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
   const FirstPlanes<decltype(d)> pl(items, planes, lo, hi);
   const V safe = hn::Set(d, x_safe), half = hn::Set(d, 0.5f);
   const V g[3] = {hn::Set(d, seed[0]), hn::Set(d, seed[1]), hn::Set(d, seed[2])};
-  const auto abs_mask = hn::Set(du, 0x7fffffffu);
   const Mk none = hn::Lt(half, half), all = hn::Eq(half, half);
   for (std::size_t w = 0; w < bitset_words(n); ++w) outside[w] = inside[w] = meet_ok[w] = meets[w] = open[w] = 0;
   const auto none_lo = hn::Set(du, std::uint32_t(no_combination)), none_hi = hn::Set(du, std::uint32_t(no_combination >> 32));
   for (std::size_t i = 0; i < n; i += N) {
     auto xb = hn::Zero(du);
     for (int k = 0; k < 3; ++k)
-      xb = hn::Max(xb, hn::Max(hn::And(hn::BitCast(du, hn::LoadU(d, lo[k] + i)), abs_mask),
-                               hn::And(hn::BitCast(du, hn::LoadU(d, hi[k] + i)), abs_mask)));
+      xb = hn::Max(xb, hn::Max(abs_bits(du, hn::LoadU(d, lo[k] + i)), abs_bits(du, hn::LoadU(d, hi[k] + i))));
     const V x = hn::BitCast(d, xb);  // the magnitude X (a NaN sorts high)
     Mk out = none, held_all = all, p_in = all, strictly_out = none;
     auto jbits = hn::Zero(du);
@@ -157,8 +154,8 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
           const V a = hn::LoadU(d, lo[k] + i), b = hn::LoadU(d, hi[k] + i);
           p[k] = hn::Min(hn::Max(g[k], a), b);
           c[k] = hn::Mul(hn::Add(a, b), half);
-          xp = hn::Max(xp, hn::And(hn::BitCast(du, p[k]), abs_mask));
-          xc = hn::Max(xc, hn::And(hn::BitCast(du, c[k]), abs_mask));
+          xp = hn::Max(xp, abs_bits(du, p[k]));
+          xc = hn::Max(xc, abs_bits(du, c[k]));
         }
         Mk p_inside = all, c_inside = all;
         for (int q = 0; q < planes; ++q) {
