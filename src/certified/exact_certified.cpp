@@ -192,10 +192,10 @@
 #include "cullproof/exact_certified.hpp"
 
 #include "exact_decide.hpp"
+#include "exact_lanes.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 namespace cullproof {
@@ -735,64 +735,8 @@ bool farkas(const BoxRows& r, const int* S, const double* given, int k) noexcept
 struct BoxIn {
   const Aabb* aabb = nullptr;
   const Obb* obb = nullptr;
-  bool anchors_tried = false;  // an OBB's anchors failed already (obb_anchors)
+  bool anchors_tried = false;  // an OBB's anchors failed already (obb_anchor_witness)
 };
-
-// ---- OBBs in vector lanes ----------------------------------------------------------------------
-
-// Eight doubles per vector (GCC's and Clang's vector extensions): a plane or an anchor per lane.
-// The functions using them are compiled for AVX-512, AVX2 and the baseline (target_clones), the
-// best the CPU runs chosen once when the library loads; the arithmetic is the same in each.
-typedef double Lanes8 __attribute__((vector_size(64)));
-typedef long long Mask8 __attribute__((vector_size(64)));
-// Lanes of a where m is set, of b elsewhere (m: all ones or zero per lane).
-#define CULLPROOF_SELECT8(m, a, b) (Lanes8((Mask8(a) & (m)) | (Mask8(b) & ~(m))))
-// Whether some lane of m is set.
-#define CULLPROOF_ANY8(m)                                                                       \
-  [&] {                                                                                         \
-    Mask8 any_ = (m) | __builtin_shufflevector((m), (m), 4, 5, 6, 7, 0, 1, 2, 3);               \
-    any_ |= __builtin_shufflevector(any_, any_, 2, 3, 0, 1, 6, 7, 4, 5);                        \
-    return (any_[0] | any_[1]) != 0;                                                            \
-  }()
-
-// Whether one of the frame's anchors, taken into an OBB's coordinates and clamped to the cube (the
-// point of the box nearest it), is a witness for the rows r: all anchors at
-// once. Any t in the cube is a point of the box, so t need not be computed exactly; the rows'
-// bound eps_j holds on the whole cube.
-__attribute__((target_clones("avx512f", "avx2", "default"))) bool obb_anchors(const ExactCertifiedFrustum& f,
-                                                                             const Obb& b, const BoxRows& r) noexcept {
-  static_assert(ExactCertifiedFrustum::kAnchors == 16, "two vectors of anchors");
-  double axis[3][3];  // u_i / (h_i |u_i|^2): a point's coordinate t_i is (x - c).axis[i]
-  for (int i = 0; i < 3; ++i) {
-    const glm::vec3& u = b.axes[i];
-    const double h = b.half[i], uu = double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z;
-    const double inv = h > 0.0 && uu > 0.0 ? 1.0 / (h * uu) : 0.0;
-    axis[i][0] = u.x * inv, axis[i][1] = u.y * inv, axis[i][2] = u.z * inv;
-  }
-  const Mask8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
-  const Lanes8 one = Lanes8{} + 1.0;
-  for (std::size_t half = 0; half < 2; ++half) {
-    Lanes8 x[3];
-    std::memcpy(&x[0], f.anchor_x.data() + 8 * half, sizeof(Lanes8));
-    std::memcpy(&x[1], f.anchor_y.data() + 8 * half, sizeof(Lanes8));
-    std::memcpy(&x[2], f.anchor_z.data() + 8 * half, sizeof(Lanes8));
-    x[0] -= double(b.center.x), x[1] -= double(b.center.y), x[2] -= double(b.center.z);
-    Lanes8 t[3];
-    for (int i = 0; i < 3; ++i) {
-      Lanes8 ti = (x[0] * axis[i][0] + x[1] * axis[i][1]) + x[2] * axis[i][2];
-      ti = CULLPROOF_SELECT8(ti > 1.0, one, ti);
-      ti = CULLPROOF_SELECT8(ti < -1.0, -one, ti);
-      t[i] = CULLPROOF_SELECT8(ti == ti, ti, Lanes8{});  // a NaN: the centre's coordinate
-    }
-    Mask8 ok = lane + Mask8{} + std::int64_t(8 * half) < f.anchor_count;
-    for (int j = 0; j < r.m; ++j) {
-      const double* a = r.a[j];
-      ok &= ((a[0] + a[1] * t[0]) + a[2] * t[1]) + a[3] * t[2] >= r.eps[j];
-    }
-    if (CULLPROOF_ANY8(ok)) return true;
-  }
-  return false;
-}
 
 enum class Tri : std::uint8_t { no, yes, unknown };
 
@@ -912,7 +856,7 @@ Tri box_meets(const ExactCertifiedFrustum& f, const BoxIn& b, const BoxRows& r) 
   // nearest each (an AABB's; an OBB's in its own axes). An AABB was compared with every anchor
   // already (holds_anchor); of the points nearest them, that nearest the interior point is the
   // one that proves what the programme below would otherwise have to.
-  if (b.obb && !b.anchors_tried && obb_anchors(f, *b.obb, r)) return Tri::yes;
+  if (b.obb && !b.anchors_tried && exact_lanes::obb_anchor_witness(f, *b.obb, r.m, r.a, r.eps)) return Tri::yes;
   if (b.aabb && f.anchor_count > 0) {
     double t[3];
     const double x[3] = {f.anchor_x[0], f.anchor_y[0], f.anchor_z[0]};
@@ -1270,49 +1214,8 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
 
 namespace {
 
-// An OBB's plane stage, every plane at once: the rows a[0..3] (lane j: plane j; a[0] = s + d',
-// a[i] = n'.e_i) and what stage 1 proves (see exact_certified_obb).
-struct ObbPlanes {
-  Lanes8 a[4];
-  unsigned J, crossing, p_in;  // bit j: plane j not proved to hold the box; proved to cut it;
-                               // its p-vertex proved inside (bits of J only)
-  bool outside;                // a plane excludes the box
-  bool shared;                 // the rows of J agree in sign on every axis: one p-vertex
-};
-
-__attribute__((target_clones("avx512f", "avx2", "default"))) void obb_planes(const ExactCertifiedFrustum& f,
-                                                                            const double* c, const double (*e)[3],
-                                                                            double T, ObbPlanes& q) noexcept {
-  Lanes8 l[6];
-  for (std::size_t i = 0; i < 6; ++i) std::memcpy(&l[i], f.lanes[i].data(), sizeof(Lanes8));
-  const Lanes8 s = (l[0] * c[0] + l[1] * c[1]) + l[2] * c[2];
-  for (int i = 0; i < 3; ++i) q.a[i + 1] = (l[0] * e[i][0] + l[1] * e[i][1]) + l[2] * e[i][2];
-  q.a[0] = s + l[3];
-  const Mask8 magnitude = Mask8{} + 0x7fffffffffffffffLL;  // |x|: the sign bit cleared
-  const Lanes8 rad = (Lanes8(Mask8(q.a[1]) & magnitude) + Lanes8(Mask8(q.a[2]) & magnitude)) +
-                     Lanes8(Mask8(q.a[3]) & magnitude);
-  const Lanes8 so = s + l[4], si = s + l[5];
-  const Mask8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
-  const Mask8 valid = lane < f.count, weight = Mask8{1, 2, 4, 8, 16, 32, 64, 128};
-  const Mask8 J = valid & ~(si - rad >= T);
-  Mask8 word = (J & weight) | ((valid & (so - rad < -T)) & (weight << 8)) |
-               ((valid & (si + rad >= T)) & (weight << 16)) | ((valid & (so + rad < -T)) & (1LL << 24));
-  for (int i = 0; i < 3; ++i)
-    word |= ((J & (q.a[i + 1] > 0.0)) & (1LL << (25 + 2 * i))) | ((J & (q.a[i + 1] < 0.0)) & (1LL << (26 + 2 * i)));
-  word |= __builtin_shufflevector(word, word, 4, 5, 6, 7, 0, 1, 2, 3);
-  word |= __builtin_shufflevector(word, word, 2, 3, 0, 1, 6, 7, 4, 5);
-  word |= __builtin_shufflevector(word, word, 1, 0, 3, 2, 5, 4, 7, 6);
-  const auto w = static_cast<unsigned long long>(word[0]);
-  q.J = unsigned(w & 0xff);
-  q.crossing = unsigned(w >> 8 & 0xff);
-  q.p_in = unsigned(w >> 16 & 0xff) & q.J;
-  q.outside = (w >> 24 & 1) != 0;
-  const unsigned pos = unsigned(w >> 25 & 0x15), neg = unsigned(w >> 26 & 0x15);
-  q.shared = (pos & neg) == 0;
-}
-
 // The rows of the planes in J for stage 2 (finish_rows, from the lanes).
-void obb_rows(const ExactCertifiedFrustum& f, const ObbPlanes& q, double X, BoxRows& r) noexcept {
+void obb_rows(const ExactCertifiedFrustum& f, const exact_lanes::ObbPlaneStage& q, double X, BoxRows& r) noexcept {
   int n = 0;
   for (unsigned bits = q.J; bits != 0; bits &= bits - 1, ++n) {
     const int j = __builtin_ctz(bits);
@@ -1340,8 +1243,9 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
     H += h * std::max(std::abs(double(u.x)), std::max(std::abs(double(u.y)), std::abs(double(u.z))));
   }
   const double X = max_abs3(c) + H;
-  ObbPlanes q;
-  obb_planes(f, c, e, f.t_box * X, q);
+  // Stage 1 on every plane at once (exact_lanes.cpp: the operations of the derivation, per lane).
+  exact_lanes::ObbPlaneStage q;
+  exact_lanes::obb_plane_stage(f, c, e, f.t_box * X, q);
   if (q.outside) return Visibility::outside;
   if (q.J == 0) return Visibility::inside;
   // Rows of J agreeing in sign on every axis share their p-vertex (see the AABB).
@@ -1355,7 +1259,7 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
   const bool large = q.crossing && __builtin_popcount(q.J) >= 5;
   if (large) {
     set_stage(stage, ExactStage::axes);
-    if (obb_anchors(f, b, r)) return Visibility::intersecting;
+    if (exact_lanes::obb_anchor_witness(f, b, r.m, r.a, r.eps)) return Visibility::intersecting;
   }
   return box_rest(f, BoxIn{nullptr, &b, large}, r, q.crossing, stage);
 }

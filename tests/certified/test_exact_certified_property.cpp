@@ -14,6 +14,7 @@
 #include "cullproof/oracle.hpp"
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 #include <rapidcheck.h>
 
 #include <algorithm>
@@ -231,6 +232,43 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
               " (k = " + std::to_string(k) + ")");
   });
   EXPECT_TRUE(ok);
+}
+
+// The OBB's stages in vector lanes (src/certified/exact_lanes.cpp) compute what the derivation
+// does, operation for operation, so every SIMD target this machine runs gives the same stage and
+// verdict for every OBB (the properties above check the best target's verdicts against the
+// oracle).
+TEST(ExactCertifiedObb, EveryTargetGivesTheSameStagesAndVerdicts) {
+  std::vector<std::pair<ExactCertifiedFrustum, std::vector<Obb>>> frames;
+  for (gen::Distribution d : gen::generic_distributions())
+    for (std::uint64_t i = 0; i < 2; ++i) {
+      const gen::Frame fr = gen::draw_frame(d, 7, i, 512, kObbKind);
+      std::vector<Obb> obbs;
+      for (const Volume& v : fr.volumes) obbs.push_back(std::get<Obb>(v));
+      frames.emplace_back(prepare_exact_certified(fr.frustum), std::move(obbs));
+    }
+  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  std::vector<std::pair<Visibility, ExactStage>> first;
+  for (const std::int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    SCOPED_TRACE(hwy::TargetName(target));
+    std::size_t k = 0;
+    int by_stage[3] = {0, 0, 0};
+    for (const auto& [f, obbs] : frames)
+      for (const Obb& b : obbs) {
+        ExactStage s = ExactStage::planes;
+        const Visibility v = exact_certified_obb(f, b, &s);
+        ++by_stage[int(s)];
+        if (first.size() == k) first.emplace_back(v, s);
+        ASSERT_EQ(to_string(first[k].first), to_string(v)) << "OBB " << k;
+        ASSERT_EQ(to_string(first[k].second), to_string(s)) << "OBB " << k;
+        ++k;
+      }
+    EXPECT_GT(by_stage[int(ExactStage::planes)], 1000);  // the data reaches both float stages
+    EXPECT_GT(by_stage[int(ExactStage::axes)], 1000);
+  }
+  hwy::SetSupportedTargetsForTest(0);
 }
 
 std::string distribution_name(const ::testing::TestParamInfo<gen::Distribution>& p) {

@@ -1,0 +1,122 @@
+// Vector lanes for the exact-certified cascade's OBB stages (exact_lanes.hpp; Highway runtime
+// dispatch). A lane per plane or per anchor; every value is computed as the scalar derivation of
+// exact_certified.cpp has it, by separate multiplies and adds in the same order (no fused
+// multiply-add), so that each target gives the same values, stages and verdicts.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "exact_lanes.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include "batch_util-inl.h"
+
+#include "exact_lanes.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace cullproof {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Stage 1 of an OBB (exact_certified.cpp, "Stage 1: planes" and "Spheres and OBBs"): per plane
+// s = (n'_x c_x + n'_y c_y) + n'_z c_z, the rows n'.e_i, rad = (|a_1| + |a_2|) + |a_3|, and the
+// comparisons of s + d_out +- rad and s + d_in +- rad with -T and T.
+void ObbPlaneKernel(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
+                    exact_lanes::ObbPlaneStage& q) {
+  const hn::CappedTag<double, 8> d;
+  const int n = int(hn::Lanes(d));
+  const auto t = hn::Set(d, T), neg_t = hn::Set(d, -T);
+  unsigned J = 0, crossing = 0, p_in = 0, pos[3] = {0, 0, 0}, neg[3] = {0, 0, 0};
+  const auto zero = hn::Zero(d);
+  for (int k = 0; k < f.count; k += n) {
+    const auto nx = hn::LoadU(d, f.lanes[0].data() + k), ny = hn::LoadU(d, f.lanes[1].data() + k),
+               nz = hn::LoadU(d, f.lanes[2].data() + k);
+    const auto s = hn::Add(hn::Add(hn::Mul(nx, hn::Set(d, c[0])), hn::Mul(ny, hn::Set(d, c[1]))),
+                           hn::Mul(nz, hn::Set(d, c[2])));
+    hn::Vec<decltype(d)> a[3];
+    for (int i = 0; i < 3; ++i) {
+      a[i] = hn::Add(hn::Add(hn::Mul(nx, hn::Set(d, e[i][0])), hn::Mul(ny, hn::Set(d, e[i][1]))),
+                     hn::Mul(nz, hn::Set(d, e[i][2])));
+      hn::StoreU(a[i], d, q.a[i + 1] + k);
+    }
+    hn::StoreU(hn::Add(s, hn::LoadU(d, f.lanes[3].data() + k)), d, q.a[0] + k);
+    const auto rad = hn::Add(hn::Add(hn::Abs(a[0]), hn::Abs(a[1])), hn::Abs(a[2]));
+    const auto so = hn::Add(s, hn::LoadU(d, f.lanes[4].data() + k)), si = hn::Add(s, hn::LoadU(d, f.lanes[5].data() + k));
+    const auto valid = hn::FirstN(d, std::size_t(f.count - k));
+    if (!hn::AllFalse(d, hn::And(valid, hn::Lt(hn::Add(so, rad), neg_t)))) {
+      q.outside = true;
+      return;
+    }
+    const auto held = hn::Ge(hn::Sub(si, rad), t);  // false for a NaN, as in the scalar test
+    const unsigned j = unsigned(mask_bits(d, hn::AndNot(held, valid)));
+    J |= j << k;
+    crossing |= unsigned(mask_bits(d, hn::And(valid, hn::Lt(hn::Sub(so, rad), neg_t)))) << k;
+    p_in |= unsigned(mask_bits(d, hn::And(valid, hn::Ge(hn::Add(si, rad), t)))) << k;
+    for (int i = 0; i < 3; ++i) {
+      pos[i] |= (unsigned(mask_bits(d, hn::Gt(a[i], zero))) & j);
+      neg[i] |= (unsigned(mask_bits(d, hn::Lt(a[i], zero))) & j);
+    }
+  }
+  q.outside = false;
+  q.J = J;
+  q.crossing = crossing;
+  q.p_in = p_in & J;
+  q.shared = (pos[0] == 0 || neg[0] == 0) && (pos[1] == 0 || neg[1] == 0) && (pos[2] == 0 || neg[2] == 0);
+}
+
+// The anchors in the OBB's coordinates: t_i = (x - c).u_i / (h_i |u_i|^2), a NaN taken as 0, then
+// clamped to [-1, 1]. Any t of the cube is a point of the box, so t need not be exact; the rows
+// a_j0 + a_j1 t_1 + a_j2 t_2 + a_j3 t_3 (that order) are compared with eps_j, whose bound holds on
+// the whole cube.
+bool ObbAnchorKernel(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps) {
+  const hn::CappedTag<double, 8> d;
+  const int n = int(hn::Lanes(d));
+  double axis[3][3];  // u_i / (h_i |u_i|^2)
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3& u = b.axes[i];
+    const double h = b.half[i], uu = double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z;
+    const double inv = h > 0.0 && uu > 0.0 ? 1.0 / (h * uu) : 0.0;
+    axis[i][0] = u.x * inv, axis[i][1] = u.y * inv, axis[i][2] = u.z * inv;
+  }
+  const auto one = hn::Set(d, 1.0), minus_one = hn::Set(d, -1.0), zero = hn::Zero(d);
+  for (int k = 0; k < f.anchor_count; k += n) {
+    const auto x = hn::Sub(hn::LoadU(d, f.anchor_x.data() + k), hn::Set(d, double(b.center.x)));
+    const auto y = hn::Sub(hn::LoadU(d, f.anchor_y.data() + k), hn::Set(d, double(b.center.y)));
+    const auto z = hn::Sub(hn::LoadU(d, f.anchor_z.data() + k), hn::Set(d, double(b.center.z)));
+    hn::Vec<decltype(d)> t[3];
+    for (int i = 0; i < 3; ++i) {
+      const auto ti = hn::Add(hn::Add(hn::Mul(x, hn::Set(d, axis[i][0])), hn::Mul(y, hn::Set(d, axis[i][1]))),
+                              hn::Mul(z, hn::Set(d, axis[i][2])));
+      t[i] = hn::Min(hn::Max(hn::IfThenElse(hn::Eq(ti, ti), ti, zero), minus_one), one);
+    }
+    auto ok = hn::FirstN(d, std::size_t(f.anchor_count - k));
+    for (int j = 0; j < m && !hn::AllFalse(d, ok); ++j) {
+      const auto v = hn::Add(hn::Add(hn::Add(hn::Set(d, a[j][0]), hn::Mul(hn::Set(d, a[j][1]), t[0])),
+                                     hn::Mul(hn::Set(d, a[j][2]), t[1])),
+                             hn::Mul(hn::Set(d, a[j][3]), t[2]));
+      ok = hn::And(ok, hn::Ge(v, hn::Set(d, eps[j])));
+    }
+    if (!hn::AllFalse(d, ok)) return true;
+  }
+  return false;
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace cullproof
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace cullproof::exact_lanes {
+
+HWY_EXPORT(ObbPlaneKernel);
+HWY_EXPORT(ObbAnchorKernel);
+
+void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
+                     ObbPlaneStage& out) {
+  HWY_DYNAMIC_DISPATCH(ObbPlaneKernel)(f, c, e, T, out);
+}
+
+bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps) {
+  return HWY_DYNAMIC_DISPATCH(ObbAnchorKernel)(f, b, m, a, eps);
+}
+
+}  // namespace cullproof::exact_lanes
+#endif  // HWY_ONCE

@@ -1,0 +1,27 @@
+// The exact-certified cascade's OBB stages that test several planes or points at once
+// (exact_lanes.cpp, Highway runtime dispatch; not installed). The arithmetic is the scalar
+// derivation's (exact_certified.cpp), operation for operation: the same values on every target.
+#pragma once
+
+#include "cullproof/exact_certified.hpp"
+
+namespace cullproof::exact_lanes {
+
+/// Stage 1 of an OBB, on every plane of f: rows a[0][j] = s_j + d'_j and a[i][j] = n'_j.e_i
+/// (i = 1..3, e_i = h_i u_i), and what the planes prove under the uniform threshold T.
+struct ObbPlaneStage {
+  alignas(64) double a[4][8];
+  unsigned J = 0;         ///< bit j: plane j not proved to hold the box
+  unsigned crossing = 0;  ///< bit j: plane j proved to cut it
+  unsigned p_in = 0;      ///< bit j of J: the box's p-vertex proved inside plane j
+  bool outside = false;   ///< some plane proved to exclude it (the rest is then unset)
+  bool shared = false;    ///< the rows of J agree in sign on every axis (one p-vertex)
+};
+void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
+                     ObbPlaneStage& out);
+
+/// Whether one of f's anchors, taken into the OBB's coordinates and clamped to the cube (a point
+/// of the box), has every row j < m at least eps[j] (rows a[j] = a_j0 + sum a_ji t_i).
+bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps);
+
+}  // namespace cullproof::exact_lanes
