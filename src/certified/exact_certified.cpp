@@ -738,6 +738,21 @@ struct BoxIn {
   bool anchors_tried = false;  // an OBB's anchors failed already (obb_anchor_witness)
 };
 
+// Point x in an OBB's coordinates, clamped to the cube (a point of the box).
+void obb_coordinates(const Obb& b, const std::array<double, 3>& x, double* t) noexcept {
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3& u = b.axes[i];
+    const double h = b.half[i];
+    const double uu = double(u.x) * u.x + double(u.y) * u.y + double(u.z) * u.z;
+    double ti = 0.0;
+    if (h > 0.0 && uu > 0.0) {
+      const double proj = (x[0] - b.center.x) * u.x + (x[1] - b.center.y) * u.y + (x[2] - b.center.z) * u.z;
+      ti = proj / (h * uu);
+    }
+    t[i] = std::isfinite(ti) ? std::min(1.0, std::max(-1.0, ti)) : 0.0;
+  }
+}
+
 enum class Tri : std::uint8_t { no, yes, unknown };
 
 // The dual of the programme for at most three rows, by enumeration of its vertices: the minimum
@@ -1252,14 +1267,16 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
   if (q.crossing && q.p_in == q.J && q.shared) return Visibility::intersecting;
   BoxRows r;
   obb_rows(f, q, X, r);
-  // Five or six planes left (a box about as large as the frustum): the points of the box nearest
-  // the frame's anchors are stage 2's witnesses for most such boxes; tried before box_rest
-  // rechecks and filters the rows (a row it drops is at least eps_j on the whole cube, so the
-  // result is the same).
-  const bool large = q.crossing && __builtin_popcount(q.J) >= 5;
+  // Five or six planes left (a box about as large as the frustum): the point of the box nearest
+  // the frame's interior point, then those nearest the other anchors, are stage 2's witnesses for
+  // most such boxes; tried before box_rest rechecks and filters the rows (a row it drops is at
+  // least eps_j on the whole cube, so the answer is the same).
+  const bool large = q.crossing && f.has_interior && __builtin_popcount(q.J) >= 5;
   if (large) {
     set_stage(stage, ExactStage::axes);
-    if (exact_lanes::obb_anchor_witness(f, b, r.m, r.a, r.eps)) return Visibility::intersecting;
+    double t[3];
+    obb_coordinates(b, f.interior, t);
+    if (witness(r, t) || exact_lanes::obb_anchor_witness(f, b, r.m, r.a, r.eps)) return Visibility::intersecting;
   }
   return box_rest(f, BoxIn{nullptr, &b, large}, r, q.crossing, stage);
 }
