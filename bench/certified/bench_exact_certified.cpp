@@ -18,6 +18,9 @@
 //   passes/aabb/<distribution>               the AABB array form's passes on the generic frames:
 //                                            counters, fractions of all boxes, of what each
 //                                            leaves open (nothing is timed)
+//
+// --simd_target=NAME (a Highway target this machine runs: AVX3, AVX2, SSE4, ...) runs the
+// vector code of both the exact and the certified methods as on a machine whose best is NAME.
 #include "batch_adapter.hpp"       // AoS to SoA chunks (not installed)
 #include "batch_combinations.hpp"  // the array form's float passes (not installed)
 #include "cullproof/certified.hpp"
@@ -27,8 +30,10 @@
 #include "cullproof/methods.hpp"
 
 #include <benchmark/benchmark.h>
+#include <hwy/targets.h>
 
 #include <chrono>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <string>
@@ -315,6 +320,24 @@ int main(int argc, char** argv) {
   register_stages<Sphere>("sphere", [](const ExactCertifiedFrustum& f, const Sphere& b, ExactStage* s) {
     return exact_certified_sphere(f, b, s);
   });
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i], flag = "--simd_target=";
+    if (arg.compare(0, flag.size(), flag) != 0) continue;
+    const std::string name = arg.substr(flag.size());
+    std::string known;
+    std::int64_t chosen = 0;
+    for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
+      known += std::string(known.empty() ? "" : ", ") + hwy::TargetName(t);
+      if (name == hwy::TargetName(t)) chosen = t;
+    }
+    if (chosen == 0) {
+      std::fprintf(stderr, "--simd_target=%s: not a target this machine runs (it runs %s)\n", name.c_str(), known.c_str());
+      return 1;
+    }
+    hwy::SetSupportedTargetsForTest(chosen);
+    for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
+    --argc, --i;
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -234,98 +234,10 @@ inline void set_stage(ExactStage* s, ExactStage v) noexcept {
   if (s) *s = v;
 }
 
-// ---- A small linear programme (stage 2 of boxes, and the interior point) -------------------------
-//
-// Maximise s subject to a_j0 + sum_i a_ji t_i >= s w_j (j < m, w_j > 0) and |t_i| <= 1, by the
-// simplex method on a dense tableau (Bland's rule; at most 64 pivots). With y_i = t_i + 1 in
-// [0, 2] and z = s + z0 >= 0 (z0 makes the origin feasible), the rows are
-// w_j z - sum_i a_ji y_i <= (a_j0 - sum_i a_ji) + w_j z0 and y_i <= 2. The answer is a candidate
-// only: the stages prove what they use of it.
-struct LpAnswer {
-  bool ok = false;
-  double s = 0.0;
-  double t[3] = {0, 0, 0};
-  double lambda[6] = {0, 0, 0, 0, 0, 0};  // dual multipliers of the rows j
-};
+// ---- A small linear programme: exact_lanes::max_min_lp (stage 2 of boxes, the interior point) --
 
-LpAnswer max_min_lp(int m, const double (*a_in)[4], const double* w_in) {
-  constexpr int kMaxRows = 9, kCols = 4 + kMaxRows + 1;
-  const int rows = m + 3, rhs = 4 + rows;
-  double T[kMaxRows][kCols] = {};
-  double obj[kCols] = {};
-  int basis[kMaxRows];
-  // Each row scaled by sigma_j = 1 / (|a_j0| + sum |a_ji| + w_j): the same constraint, entries of
-  // magnitude at most 1, so that the pivoting tolerances below are relative.
-  double a[6][4], w[6], sigma[6];
-  for (int j = 0; j < m; ++j) {
-    const double size = std::abs(a_in[j][0]) + std::abs(a_in[j][1]) + std::abs(a_in[j][2]) + std::abs(a_in[j][3]) + w_in[j];
-    sigma[j] = size > 0.0 ? 1.0 / size : 1.0;
-    for (int i = 0; i < 4; ++i) a[j][i] = a_in[j][i] * sigma[j];
-    w[j] = w_in[j] * sigma[j];
-    if (!(w[j] > 0.0)) w[j] = 0x1p-600;
-  }
-  double z0 = 0.0;
-  for (int j = 0; j < m; ++j) {
-    const double b = a[j][0] - a[j][1] - a[j][2] - a[j][3];
-    z0 = std::max(z0, -b / w[j]);
-  }
-  for (int j = 0; j < m; ++j) {
-    T[j][0] = -a[j][1];
-    T[j][1] = -a[j][2];
-    T[j][2] = -a[j][3];
-    T[j][3] = w[j];
-    T[j][4 + j] = 1.0;
-    T[j][rhs] = std::max(0.0, a[j][0] - a[j][1] - a[j][2] - a[j][3] + w[j] * z0);
-    basis[j] = 4 + j;
-  }
-  for (int i = 0; i < 3; ++i) {
-    const int r = m + i;
-    T[r][i] = 1.0;
-    T[r][4 + r] = 1.0;
-    T[r][rhs] = 2.0;
-    basis[r] = 4 + r;
-  }
-  obj[3] = -1.0;  // maximise z
-  LpAnswer out;
-  for (int iter = 0; iter < 64; ++iter) {
-    int enter = -1;
-    for (int c = 0; c < rhs; ++c)
-      if (obj[c] < -1e-12) {
-        enter = c;
-        break;
-      }
-    if (enter < 0) {
-      out.ok = true;
-      break;
-    }
-    int leave = -1;
-    double best = 0.0;
-    for (int r = 0; r < rows; ++r) {
-      if (T[r][enter] <= 1e-12) continue;
-      const double ratio = T[r][rhs] / T[r][enter];
-      if (leave < 0 || ratio < best || (ratio == best && basis[r] < basis[leave])) leave = r, best = ratio;
-    }
-    if (leave < 0) return out;  // unbounded: cannot happen with w > 0; give up
-    const double p = T[leave][enter];
-    for (int c = 0; c <= rhs; ++c) T[leave][c] /= p;
-    for (int r = 0; r < rows; ++r) {
-      if (r == leave || T[r][enter] == 0.0) continue;
-      const double f = T[r][enter];
-      for (int c = 0; c <= rhs; ++c) T[r][c] -= f * T[leave][c];
-    }
-    const double f = obj[enter];
-    for (int c = 0; c <= rhs; ++c) obj[c] -= f * T[leave][c];
-    basis[leave] = enter;
-  }
-  if (!out.ok) return out;
-  double y[4] = {0, 0, 0, 0};
-  for (int r = 0; r < rows; ++r)
-    if (basis[r] < 4) y[basis[r]] = T[r][rhs];
-  for (int i = 0; i < 3; ++i) out.t[i] = std::min(1.0, std::max(-1.0, y[i] - 1.0));
-  out.s = y[3] - z0;
-  for (int j = 0; j < m; ++j) out.lambda[j] = std::max(0.0, obj[4 + j]) * sigma[j];
-  return out;
-}
+using exact_lanes::LpAnswer;
+using exact_lanes::max_min_lp;
 
 // ---- Per-frame preparation ---------------------------------------------------------------------
 

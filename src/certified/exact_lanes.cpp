@@ -1,5 +1,5 @@
 // Vector lanes for the exact-certified cascade's OBB stages (exact_lanes.hpp; Highway runtime
-// dispatch). A lane per plane or per anchor; every value is computed as the scalar derivation of
+// dispatch). A lane per plane, per anchor or per column of a tableau; every value is computed as the scalar derivation of
 // exact_certified.cpp has it, by separate multiplies and adds in the same order (no fused
 // multiply-add), so that each target gives the same values, stages and verdicts.
 #undef HWY_TARGET_INCLUDE
@@ -10,6 +10,9 @@
 #include "batch_util-inl.h"
 
 #include "exact_lanes.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 HWY_BEFORE_NAMESPACE();
 namespace cullproof {
@@ -99,6 +102,88 @@ bool ObbAnchorKernel(const ExactCertifiedFrustum& f, const Obb& b, int m, const 
   return false;
 }
 
+// The programme of exact_lanes.hpp (max_min_lp), the pivots on whole rows of the tableau.
+void MaxMinLpKernel(int m, const double (*a_in)[4], const double* w_in, exact_lanes::LpAnswer& out) {
+  constexpr int kMaxRows = 9, kCols = 16;  // 4 + kMaxRows + 1 columns, padded to a multiple of 8
+  const int rows = m + 3, rhs = 4 + rows;
+  alignas(64) double T[kMaxRows][kCols] = {};
+  alignas(64) double obj[kCols] = {};
+  int basis[kMaxRows];
+  // Each row scaled by sigma_j = 1 / (|a_j0| + sum |a_ji| + w_j): the same constraint, entries of
+  // magnitude at most 1, so that the pivoting tolerances below are relative.
+  double a[6][4], w[6], sigma[6];
+  for (int j = 0; j < m; ++j) {
+    const double size = std::abs(a_in[j][0]) + std::abs(a_in[j][1]) + std::abs(a_in[j][2]) + std::abs(a_in[j][3]) + w_in[j];
+    sigma[j] = size > 0.0 ? 1.0 / size : 1.0;
+    for (int i = 0; i < 4; ++i) a[j][i] = a_in[j][i] * sigma[j];
+    w[j] = w_in[j] * sigma[j];
+    if (!(w[j] > 0.0)) w[j] = 0x1p-600;
+  }
+  double z0 = 0.0;
+  for (int j = 0; j < m; ++j) {
+    const double b = a[j][0] - a[j][1] - a[j][2] - a[j][3];
+    z0 = std::max(z0, -b / w[j]);
+  }
+  for (int j = 0; j < m; ++j) {
+    T[j][0] = -a[j][1];
+    T[j][1] = -a[j][2];
+    T[j][2] = -a[j][3];
+    T[j][3] = w[j];
+    T[j][4 + j] = 1.0;
+    T[j][rhs] = std::max(0.0, a[j][0] - a[j][1] - a[j][2] - a[j][3] + w[j] * z0);
+    basis[j] = 4 + j;
+  }
+  for (int i = 0; i < 3; ++i) {
+    const int r = m + i;
+    T[r][i] = 1.0;
+    T[r][4 + r] = 1.0;
+    T[r][rhs] = 2.0;
+    basis[r] = 4 + r;
+  }
+  obj[3] = -1.0;  // maximise z
+  const hn::CappedTag<double, 8> d;
+  const int n = int(hn::Lanes(d));
+  for (int iter = 0; iter < 64; ++iter) {
+    int enter = -1;
+    for (int c = 0; c < rhs; ++c)
+      if (obj[c] < -1e-12) {
+        enter = c;
+        break;
+      }
+    if (enter < 0) {
+      out.ok = true;
+      break;
+    }
+    int leave = -1;
+    double best = 0.0;
+    for (int r = 0; r < rows; ++r) {
+      if (T[r][enter] <= 1e-12) continue;
+      const double ratio = T[r][rhs] / T[r][enter];
+      if (leave < 0 || ratio < best || (ratio == best && basis[r] < basis[leave])) leave = r, best = ratio;
+    }
+    if (leave < 0) return;  // unbounded: cannot happen with w > 0; give up
+    // The pivot on whole rows (the columns past rhs are zero and stay zero).
+    const auto p = hn::Set(d, T[leave][enter]);
+    for (int c = 0; c < kCols; c += n) hn::Store(hn::Div(hn::Load(d, T[leave] + c), p), d, T[leave] + c);
+    auto eliminate = [&](double* row) {
+      const auto f = hn::Set(d, row[enter]);
+      for (int c = 0; c < kCols; c += n)
+        hn::Store(hn::Sub(hn::Load(d, row + c), hn::Mul(f, hn::Load(d, T[leave] + c))), d, row + c);
+    };
+    for (int r = 0; r < rows; ++r)
+      if (r != leave && T[r][enter] != 0.0) eliminate(T[r]);
+    eliminate(obj);
+    basis[leave] = enter;
+  }
+  if (!out.ok) return;
+  double y[4] = {0, 0, 0, 0};
+  for (int r = 0; r < rows; ++r)
+    if (basis[r] < 4) y[basis[r]] = T[r][rhs];
+  for (int i = 0; i < 3; ++i) out.t[i] = std::min(1.0, std::max(-1.0, y[i] - 1.0));
+  out.s = y[3] - z0;
+  for (int j = 0; j < m; ++j) out.lambda[j] = std::max(0.0, obj[4 + j]) * sigma[j];
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace cullproof
 HWY_AFTER_NAMESPACE();
@@ -108,6 +193,7 @@ namespace cullproof::exact_lanes {
 
 HWY_EXPORT(ObbPlaneKernel);
 HWY_EXPORT(ObbAnchorKernel);
+HWY_EXPORT(MaxMinLpKernel);
 
 void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
                      ObbPlaneStage& out) {
@@ -116,6 +202,12 @@ void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const doub
 
 bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps) {
   return HWY_DYNAMIC_DISPATCH(ObbAnchorKernel)(f, b, m, a, eps);
+}
+
+LpAnswer max_min_lp(int m, const double (*a)[4], const double* w) {
+  LpAnswer out;
+  HWY_DYNAMIC_DISPATCH(MaxMinLpKernel)(m, a, w, out);
+  return out;
 }
 
 }  // namespace cullproof::exact_lanes

@@ -24,4 +24,19 @@ void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const doub
 /// of the box), has every row j < m at least eps[j] (rows a[j] = a_j0 + sum a_ji t_i).
 bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps);
 
+/// A small linear programme (stage 2 of boxes, and the frame's interior point):
+/// Maximise s subject to a_j0 + sum_i a_ji t_i >= s w_j (j < m, w_j > 0) and |t_i| <= 1, by the
+/// simplex method on a dense tableau (Bland's rule; at most 64 pivots). With y_i = t_i + 1 in
+/// [0, 2] and z = s + z0 >= 0 (z0 makes the origin feasible), the rows are
+/// w_j z - sum_i a_ji y_i <= (a_j0 - sum_i a_ji) + w_j z0 and y_i <= 2. The answer is a candidate
+/// only: the stages prove what they use of it.
+struct LpAnswer {
+  bool ok = false;
+  double s = 0.0;
+  double t[3] = {0, 0, 0};
+  double lambda[6] = {0, 0, 0, 0, 0, 0};  ///< dual multipliers of the rows j
+};
+/// m <= 6 rows a[j] (a_j0, a_j1, a_j2, a_j3) with weights w[j].
+LpAnswer max_min_lp(int m, const double (*a)[4], const double* w);
+
 }  // namespace cullproof::exact_lanes
