@@ -741,7 +741,10 @@ void primal(const BoxRows& r, const Dual& d, double* t) {
     t[i - 1] = c > 0.0 ? 1.0 : c < 0.0 ? -1.0 : 0.0;
   }
   // The rows of the support scaled by 1 / W: equal at the optimum. Unknowns: the cancelled axes.
-  auto scaled = [&](int q, int i) { return r.a[d.S[q]][i] / r.w[d.S[q]]; };
+  // (A proposal only, checked by witness(): reciprocals instead of a division per entry.)
+  double inv_w[3] = {0, 0, 0};
+  for (int q = 0; q < d.k; ++q) inv_w[q] = 1.0 / r.w[d.S[q]];
+  auto scaled = [&](int q, int i) { return r.a[d.S[q]][i] * inv_w[q]; };
   auto rest = [&](int q) {  // the scaled row at t with the cancelled axes at 0
     double v = scaled(q, 0);
     for (int i = 1; i <= 3; ++i)
@@ -1183,7 +1186,9 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
   // the frame's interior point, then those nearest the other anchors, are stage 2's witnesses for
   // most such boxes; tried before box_rest rechecks and filters the rows (a row it drops is at
   // least eps_j on the whole cube, so the answer is the same).
-  const bool large = q.crossing && f.has_interior && __builtin_popcount(q.J) >= 5;
+  unsigned fifth = q.J;  // J with its four lowest planes removed: not empty with five or more
+  for (int k = 0; k < 4; ++k) fifth &= fifth - 1;
+  const bool large = q.crossing && f.has_interior && fifth != 0;
   if (large) {
     set_stage(stage, ExactStage::axes);
     double t[3];
