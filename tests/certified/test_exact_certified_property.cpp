@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <iterator>
 #include <string>
 #include <type_traits>
@@ -234,39 +235,65 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
   EXPECT_TRUE(ok);
 }
 
-// The OBB's stages in vector lanes (src/certified/exact_lanes.cpp) compute what the derivation
-// does, operation for operation, so every SIMD target this machine runs gives the same stage and
-// verdict for every OBB (the properties above check the best target's verdicts against the
-// oracle).
-TEST(ExactCertifiedObb, EveryTargetGivesTheSameStagesAndVerdicts) {
-  std::vector<std::pair<ExactCertifiedFrustum, std::vector<Obb>>> frames;
+// The stages in vector lanes (src/certified/exact_lanes.cpp: an OBB's planes and anchors, the
+// programme that finds the frame's interior point and proposes stage 2's certificates) compute
+// what the derivation does, operation for operation, so every SIMD target this machine runs
+// prepares the same frame (interior point, anchors) and gives the same stage and verdict for
+// every OBB and AABB (the properties above check the best target's verdicts against the oracle).
+TEST(ExactCertifiedLanes, EveryTargetGivesTheSameFramesStagesAndVerdicts) {
+  struct Frame {
+    CaseFrustum frustum;
+    std::vector<Obb> obbs;
+    std::vector<Aabb> aabbs;
+  };
+  std::vector<Frame> frames;
   for (gen::Distribution d : gen::generic_distributions())
     for (std::uint64_t i = 0; i < 2; ++i) {
-      const gen::Frame fr = gen::draw_frame(d, 7, i, 512, kObbKind);
-      std::vector<Obb> obbs;
-      for (const Volume& v : fr.volumes) obbs.push_back(std::get<Obb>(v));
-      frames.emplace_back(prepare_exact_certified(fr.frustum), std::move(obbs));
+      Frame f;
+      f.frustum = gen::draw_frame(d, 7, i, 512, kObbKind).frustum;
+      for (const Volume& v : gen::draw_frame(d, 7, i, 512, kObbKind).volumes) f.obbs.push_back(std::get<Obb>(v));
+      for (const Volume& v : gen::draw_frame(d, 7, i, 512, kAabbKind).volumes) f.aabbs.push_back(std::get<Aabb>(v));
+      frames.push_back(std::move(f));
     }
   const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
   ASSERT_FALSE(targets.empty());
   std::vector<std::pair<Visibility, ExactStage>> first;
+  std::vector<std::array<double, 3 * ExactCertifiedFrustum::kAnchors + 3>> points;
   for (const std::int64_t target : targets) {
     hwy::SetSupportedTargetsForTest(target);
     SCOPED_TRACE(hwy::TargetName(target));
     std::size_t k = 0;
     int by_stage[3] = {0, 0, 0};
-    for (const auto& [f, obbs] : frames)
-      for (const Obb& b : obbs) {
-        ExactStage s = ExactStage::planes;
-        const Visibility v = exact_certified_obb(f, b, &s);
+    for (std::size_t fi = 0; fi < frames.size(); ++fi) {
+      const ExactCertifiedFrustum f = prepare_exact_certified(frames[fi].frustum);
+      std::array<double, 3 * ExactCertifiedFrustum::kAnchors + 3> p{};
+      for (int a = 0; a < ExactCertifiedFrustum::kAnchors; ++a)
+        p[std::size_t(3 * a)] = f.anchor_x[std::size_t(a)], p[std::size_t(3 * a + 1)] = f.anchor_y[std::size_t(a)],
+                         p[std::size_t(3 * a + 2)] = f.anchor_z[std::size_t(a)];
+      for (int i = 0; i < 3; ++i) p[std::size_t(3 * ExactCertifiedFrustum::kAnchors + i)] = f.interior[std::size_t(i)];
+      if (points.size() == fi) points.push_back(p);
+      for (std::size_t i = 0; i < p.size(); ++i)  // bit for bit (the unused anchors are NaN)
+        ASSERT_EQ(std::memcmp(&points[fi][i], &p[i], sizeof(double)), 0) << "frame " << fi << ", coordinate " << i;
+      auto check = [&](Visibility v, ExactStage s) {
         ++by_stage[int(s)];
         if (first.size() == k) first.emplace_back(v, s);
-        ASSERT_EQ(to_string(first[k].first), to_string(v)) << "OBB " << k;
-        ASSERT_EQ(to_string(first[k].second), to_string(s)) << "OBB " << k;
+        ASSERT_EQ(to_string(first[k].first), to_string(v)) << "volume " << k;
+        ASSERT_EQ(to_string(first[k].second), to_string(s)) << "volume " << k;
         ++k;
+      };
+      for (const Obb& b : frames[fi].obbs) {
+        ExactStage s = ExactStage::planes;
+        const Visibility v = exact_certified_obb(f, b, &s);
+        check(v, s);
       }
-    EXPECT_GT(by_stage[int(ExactStage::planes)], 1000);  // the data reaches both float stages
-    EXPECT_GT(by_stage[int(ExactStage::axes)], 1000);
+      for (const Aabb& b : frames[fi].aabbs) {
+        ExactStage s = ExactStage::planes;
+        const Visibility v = exact_certified_aabb(f, b, &s);
+        check(v, s);
+      }
+    }
+    EXPECT_GT(by_stage[int(ExactStage::planes)], 2000);  // the data reaches both float stages
+    EXPECT_GT(by_stage[int(ExactStage::axes)], 2000);
   }
   hwy::SetSupportedTargetsForTest(0);
 }
