@@ -573,8 +573,9 @@ ExactCertifiedFrustum prepare_exact_certified(const CaseFrustum& cf) {
     p.d_out_sphere = next_up(p.d + ds);
     p.d_in_sphere = next_down(p.d - ds);
     a_max = std::max(a_max, p.a);
-    const double lane[6] = {p.nx, p.ny, p.nz, p.d, p.d_out_box, p.d_in_box};
-    for (int i = 0; i < 6; ++i) f.lanes[std::size_t(i)][std::size_t(f.count - 1)] = lane[i];
+    const double lane[11] = {p.nx, p.ny, p.nz, p.d, p.d_out_box, p.d_in_box, p.d_out_sphere, p.d_in_sphere,
+                             p.norm, p.a, p.ad};
+    for (int i = 0; i < 11; ++i) f.lanes[std::size_t(i)][std::size_t(f.count - 1)] = lane[i];
   }
   for (unsigned set = 0; set < 64; ++set) {
     unsigned pos = 0, neg = 0;
@@ -1203,25 +1204,15 @@ Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& 
   if (f.empty) return Visibility::outside;
   const double c[3] = {s.center.x, s.center.y, s.center.z}, r = s.radius;
   const double mc = max_abs3(c);
-  const double T = f.t_sphere * (mc + r), neg_t = -T;
-  unsigned J = 0, crossing = 0, reach = 0, centre_in = 0;
-  double sc[6], wc[6];
-  for (int j = 0; j < f.count; ++j) {
-    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
-    const double v = (p.nx * c[0] + p.ny * c[1]) + p.nz * c[2];
-    const double rho = r * p.norm;
-    if ((v + p.d_out_sphere) + rho < neg_t) return Visibility::outside;
-    const double w_in = v + p.d_in_sphere;
-    if (!(w_in - rho >= T)) {
-      const unsigned bit = 1u << j;
-      J |= bit;
-      if ((v + p.d_out_sphere) - rho < neg_t) crossing |= bit;
-      if ((v + p.d_in_sphere) + rho >= T) reach |= bit;
-      if (w_in >= T) centre_in |= bit;
-    }
-    sc[j] = v + p.d;
-    wc[j] = up(p.a * mc + p.ad);
-  }
+  const double T = f.t_sphere * (mc + r);
+  // Stage 1 on every plane at once (exact_lanes.cpp: per plane v = n'.c, rho = r norm', the
+  // comparisons below, and the centre's values sc = v + d' with their bounds wc).
+  exact_lanes::SpherePlaneStage q;
+  exact_lanes::sphere_plane_stage(f, c, r, mc, T, q);
+  if (q.outside) return Visibility::outside;
+  const unsigned J = q.J, crossing = q.crossing, reach = q.reach, centre_in = q.centre_in;
+  const double* sc = q.sc;
+  const double* wc = q.wc;
   if (J == 0) return Visibility::inside;
   if (crossing) {
     // One plane left, reached by the ball: it meets the frustum inside that plane. The centre in

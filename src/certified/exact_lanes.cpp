@@ -65,6 +65,42 @@ void ObbPlaneKernel(const ExactCertifiedFrustum& f, const double* c, const doubl
   q.shared = (pos[0] == 0 || neg[0] == 0) && (pos[1] == 0 || neg[1] == 0) && (pos[2] == 0 || neg[2] == 0);
 }
 
+// Stage 1 of a sphere (exact_certified.cpp, "Spheres"), the scalar loop's operations per lane:
+// v = (n'_x c_x + n'_y c_y) + n'_z c_z, rho = r norm', (v + d_out) + rho against -T and so on;
+// the bound wc = up(A' mc + |d'|) with up(x) = x (1 + kSlack).
+void SpherePlaneKernel(const ExactCertifiedFrustum& f, const double* c, double r, double mc, double T,
+                       exact_lanes::SpherePlaneStage& q) {
+  const hn::CappedTag<double, 8> d;
+  const int n = int(hn::Lanes(d));
+  const auto t = hn::Set(d, T), neg_t = hn::Set(d, -T), radius = hn::Set(d, r), m = hn::Set(d, mc);
+  const auto slack = hn::Set(d, 1.0 + ExactMargins::kSlack);
+  unsigned J = 0, crossing = 0, reach = 0, centre_in = 0;
+  for (int k = 0; k < f.count; k += n) {
+    const auto load = [&](int i) { return hn::LoadU(d, f.lanes[std::size_t(i)].data() + k); };
+    const auto v = hn::Add(hn::Add(hn::Mul(load(0), hn::Set(d, c[0])), hn::Mul(load(1), hn::Set(d, c[1]))),
+                           hn::Mul(load(2), hn::Set(d, c[2])));
+    const auto rho = hn::Mul(radius, load(8));
+    const auto w_out = hn::Add(v, load(6)), w_in = hn::Add(v, load(7));
+    const auto valid = hn::FirstN(d, std::size_t(f.count - k));
+    if (!hn::AllFalse(d, hn::And(valid, hn::Lt(hn::Add(w_out, rho), neg_t)))) {
+      q.outside = true;
+      return;
+    }
+    const auto in_j = hn::AndNot(hn::Ge(hn::Sub(w_in, rho), t), valid);  // NaN: in J, as the loop
+    J |= unsigned(mask_bits(d, in_j)) << k;
+    crossing |= unsigned(mask_bits(d, hn::And(in_j, hn::Lt(hn::Sub(w_out, rho), neg_t)))) << k;
+    reach |= unsigned(mask_bits(d, hn::And(in_j, hn::Ge(hn::Add(w_in, rho), t)))) << k;
+    centre_in |= unsigned(mask_bits(d, hn::And(in_j, hn::Ge(w_in, t)))) << k;
+    hn::StoreU(hn::Add(v, load(3)), d, q.sc + k);
+    hn::StoreU(hn::Mul(hn::Add(hn::Mul(load(9), m), load(10)), slack), d, q.wc + k);
+  }
+  q.outside = false;
+  q.J = J;
+  q.crossing = crossing;
+  q.reach = reach;
+  q.centre_in = centre_in;
+}
+
 // The anchors in the OBB's coordinates: t_i = (x - c).u_i / (h_i |u_i|^2), a NaN taken as 0, then
 // clamped to [-1, 1]. Any t of the cube is a point of the box, so t need not be exact; the rows
 // a_j0 + a_j1 t_1 + a_j2 t_2 + a_j3 t_3 (that order) are compared with eps_j, whose bound holds on
@@ -193,11 +229,17 @@ namespace cullproof::exact_lanes {
 
 HWY_EXPORT(ObbPlaneKernel);
 HWY_EXPORT(ObbAnchorKernel);
+HWY_EXPORT(SpherePlaneKernel);
 HWY_EXPORT(MaxMinLpKernel);
 
 void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
                      ObbPlaneStage& out) {
   HWY_DYNAMIC_DISPATCH(ObbPlaneKernel)(f, c, e, T, out);
+}
+
+void sphere_plane_stage(const ExactCertifiedFrustum& f, const double* c, double r, double mc, double T,
+                        SpherePlaneStage& out) {
+  HWY_DYNAMIC_DISPATCH(SpherePlaneKernel)(f, c, r, mc, T, out);
 }
 
 bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps) {

@@ -20,6 +20,19 @@ struct ObbPlaneStage {
 void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
                      ObbPlaneStage& out);
 
+/// Stage 1 of a sphere (centre c, radius r, magnitude mc = max |c_i|), on every plane of f: per
+/// plane v = n'.c and rho = r norm'; bit j of J where !(v + d_in - rho >= T), and of J only:
+/// crossing (v + d_out - rho < -T), reach (v + d_in + rho >= T), centre_in (v + d_in >= T);
+/// outside when some v + d_out + rho < -T. sc[j] = v + d', wc[j] = (A' mc + |d'|)(1 + 2^-40).
+struct SpherePlaneStage {
+  alignas(64) double sc[8];
+  alignas(64) double wc[8];
+  unsigned J = 0, crossing = 0, reach = 0, centre_in = 0;
+  bool outside = false;
+};
+void sphere_plane_stage(const ExactCertifiedFrustum& f, const double* c, double r, double mc, double T,
+                        SpherePlaneStage& out);
+
 /// Whether one of f's anchors, taken into the OBB's coordinates and clamped to the cube (a point
 /// of the box), has every row j < m at least eps[j] (rows a[j] = a_j0 + sum a_ji t_i).
 bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps);

@@ -122,9 +122,10 @@ struct ExactCertifiedFrustum {
   /// is left out, a plane holding nothing (n == 0, d < 0) sets `empty`.
   std::array<ExactCertifiedPlane, 6> plane{};
   int count = 0;
-  /// The same planes by component, lane j for plane[j], zero past `count` (the OBB's plane stage
-  /// tests every plane at once): n'_x, n'_y, n'_z, d', d_out_box, d_in_box.
-  std::array<std::array<double, 8>, 6> lanes{};
+  /// The same planes by component, lane j for plane[j], zero past `count` (the plane stages of
+  /// OBBs and spheres test every plane at once): n'_x, n'_y, n'_z, d', d_out_box, d_in_box,
+  /// d_out_sphere, d_in_sphere, norm, A', |d'|.
+  std::array<std::array<double, 8>, 11> lanes{};
   bool empty = false;
   double t_box = 0, t_sphere = 0;  ///< kBox u max A', kSphere u max A', rounded up
   /// For each set of planes (bit j: plane[j]), whether their normals agree in sign on every axis,

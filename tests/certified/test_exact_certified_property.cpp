@@ -235,16 +235,18 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
   EXPECT_TRUE(ok);
 }
 
-// The stages in vector lanes (src/certified/exact_lanes.cpp: an OBB's planes and anchors, the
-// programme that finds the frame's interior point and proposes stage 2's certificates) compute
-// what the derivation does, operation for operation, so every SIMD target this machine runs
-// prepares the same frame (interior point, anchors) and gives the same stage and verdict for
-// every OBB and AABB (the properties above check the best target's verdicts against the oracle).
+// The stages in vector lanes (src/certified/exact_lanes.cpp: the planes of OBBs and spheres, an
+// OBB's anchors, the programme that finds the frame's interior point and proposes stage 2's
+// certificates) compute what the derivation does, operation for operation, so every SIMD target
+// this machine runs prepares the same frame (interior point, anchors) and gives the same stage and
+// verdict for every OBB, AABB and sphere (the properties above check the best target's verdicts
+// against the oracle).
 TEST(ExactCertifiedLanes, EveryTargetGivesTheSameFramesStagesAndVerdicts) {
   struct Frame {
     CaseFrustum frustum;
     std::vector<Obb> obbs;
     std::vector<Aabb> aabbs;
+    std::vector<Sphere> spheres;
   };
   std::vector<Frame> frames;
   for (gen::Distribution d : gen::generic_distributions())
@@ -253,6 +255,7 @@ TEST(ExactCertifiedLanes, EveryTargetGivesTheSameFramesStagesAndVerdicts) {
       f.frustum = gen::draw_frame(d, 7, i, 512, kObbKind).frustum;
       for (const Volume& v : gen::draw_frame(d, 7, i, 512, kObbKind).volumes) f.obbs.push_back(std::get<Obb>(v));
       for (const Volume& v : gen::draw_frame(d, 7, i, 512, kAabbKind).volumes) f.aabbs.push_back(std::get<Aabb>(v));
+      for (const Volume& v : gen::draw_frame(d, 7, i, 512, kSphereKind).volumes) f.spheres.push_back(std::get<Sphere>(v));
       frames.push_back(std::move(f));
     }
   const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
@@ -291,9 +294,14 @@ TEST(ExactCertifiedLanes, EveryTargetGivesTheSameFramesStagesAndVerdicts) {
         const Visibility v = exact_certified_aabb(f, b, &s);
         check(v, s);
       }
+      for (const Sphere& b : frames[fi].spheres) {
+        ExactStage s = ExactStage::planes;
+        const Visibility v = exact_certified_sphere(f, b, &s);
+        check(v, s);
+      }
     }
-    EXPECT_GT(by_stage[int(ExactStage::planes)], 2000);  // the data reaches both float stages
-    EXPECT_GT(by_stage[int(ExactStage::axes)], 2000);
+    EXPECT_GT(by_stage[int(ExactStage::planes)], 3000);  // the data reaches both float stages
+    EXPECT_GT(by_stage[int(ExactStage::axes)], 3000);
   }
   hwy::SetSupportedTargetsForTest(0);
 }
