@@ -942,11 +942,15 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
       dist2 += mu[q] * sc[S[q]];
     }
     if (!(dist2 < loose.dist2 || dist2 < strict.dist2)) return;
+    // Each plane's value against its magnitude p.a xm + p.ad (positive), compared without
+    // dividing: within 64 u of it (strict), within 1e-9 of it (loose).
     const double xm = max_abs3(x);
-    double worst = 0.0;  // the most negative plane value over the magnitude
+    bool in_strict = true, in_loose = true;
     for (int q = 0; q < m; ++q) {
       const ExactCertifiedPlane& p = f.plane[std::size_t(js[q])];
-      worst = std::min(worst, plane_at(p, x) / (p.a * xm + p.ad));
+      const double v = plane_at(p, x), size = p.a * xm + p.ad;
+      in_strict = in_strict && v >= -64.0 * kU * size;
+      in_loose = in_loose && v >= -1e-9 * size;
     }
     auto keep = [&](Nearest& n) {
       n.dist2 = dist2;
@@ -954,8 +958,8 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
       for (int i = 0; i < 3; ++i) n.x[i] = x[i];
       for (int q = 0; q < k; ++q) n.S[q] = S[q], n.lambda[q] = std::max(0.0, -mu[q]);
     };
-    if (worst >= -64.0 * kU && dist2 < strict.dist2) keep(strict);
-    if (worst >= -1e-9 && dist2 < loose.dist2) keep(loose);
+    if (in_strict && dist2 < strict.dist2) keep(strict);
+    if (in_loose && dist2 < loose.dist2) keep(loose);
   };
   const auto& G = f.gram;
   for (int qa = 0; qa < m; ++qa) {
@@ -968,7 +972,8 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
       const double D = G[a][a] * G[b][b] - G[a][b] * G[a][b];
       if (!(D > 1e-12 * G[a][a] * G[b][b])) continue;
       const int S2[2] = {a, b};
-      const double mu2[2] = {(G[b][b] * sc[a] - G[a][b] * sc[b]) / D, (G[a][a] * sc[b] - G[a][b] * sc[a]) / D};
+      const double inv = 1.0 / D;  // (the multipliers only propose: one division, not two)
+      const double mu2[2] = {(G[b][b] * sc[a] - G[a][b] * sc[b]) * inv, (G[a][a] * sc[b] - G[a][b] * sc[a]) * inv};
       consider(S2, 2, mu2);
       for (int qc = qb + 1; qc < m; ++qc) {
         const int cc = js[qc];
@@ -978,8 +983,10 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
         const double D3 = e00 * c00 + e01 * c01 + e02 * c02;
         if (!(D3 > 1e-12 * e00 * e11 * e22)) continue;
         const int S3[3] = {a, b, cc};
-        const double mu3[3] = {(c00 * sc[a] + c01 * sc[b] + c02 * sc[cc]) / D3, (c01 * sc[a] + c11 * sc[b] + c12 * sc[cc]) / D3,
-                               (c02 * sc[a] + c12 * sc[b] + c22 * sc[cc]) / D3};
+        const double inv3 = 1.0 / D3;
+        const double mu3[3] = {(c00 * sc[a] + c01 * sc[b] + c02 * sc[cc]) * inv3,
+                               (c01 * sc[a] + c11 * sc[b] + c12 * sc[cc]) * inv3,
+                               (c02 * sc[a] + c12 * sc[b] + c22 * sc[cc]) * inv3};
         consider(S3, 3, mu3);
       }
     }
@@ -1221,13 +1228,8 @@ Visibility exact_certified_sphere(const ExactCertifiedFrustum& f, const Sphere& 
   }
   set_stage(stage, ExactStage::axes);
   if (crossing) {
-    // An anchor of the frame (certified inside every plane) within the ball.
-    const double r2 = r * r;
-    for (int k = 0; k < f.anchor_count; ++k) {
-      const double dx = f.anchor_x[std::size_t(k)] - c[0], dy = f.anchor_y[std::size_t(k)] - c[1],
-                   dz = f.anchor_z[std::size_t(k)] - c[2];
-      if ((dx * dx + dy * dy + dz * dz) * (1.0 + M::kDistance * kU) <= r2) return Visibility::intersecting;
-    }
+    // An anchor of the frame (certified inside every plane) within the ball: all at once.
+    if (exact_lanes::anchor_in_ball(f, c, r * r)) return Visibility::intersecting;
   }
   const Tri meets = sphere_meets(f, J, s, sc, wc);
   if (meets == Tri::no) return Visibility::outside;

@@ -101,6 +101,21 @@ void SpherePlaneKernel(const ExactCertifiedFrustum& f, const double* c, double r
   q.centre_in = centre_in;
 }
 
+// The anchors against a ball (exact_certified.cpp, sphere stage 2), the scalar test per lane.
+bool AnchorInBallKernel(const ExactCertifiedFrustum& f, const double* c, double r2) {
+  const hn::CappedTag<double, 8> d;
+  const int n = int(hn::Lanes(d));
+  const auto scale = hn::Set(d, 1.0 + ExactMargins::kDistance * ExactMargins::u), limit = hn::Set(d, r2);
+  for (int k = 0; k < f.anchor_count; k += n) {
+    const auto dx = hn::Sub(hn::LoadU(d, f.anchor_x.data() + k), hn::Set(d, c[0]));
+    const auto dy = hn::Sub(hn::LoadU(d, f.anchor_y.data() + k), hn::Set(d, c[1]));
+    const auto dz = hn::Sub(hn::LoadU(d, f.anchor_z.data() + k), hn::Set(d, c[2]));
+    const auto s = hn::Mul(hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz)), scale);
+    if (!hn::AllFalse(d, hn::And(hn::FirstN(d, std::size_t(f.anchor_count - k)), hn::Le(s, limit)))) return true;
+  }
+  return false;
+}
+
 // The anchors in the OBB's coordinates: t_i = (x - c).u_i / (h_i |u_i|^2), a NaN taken as 0, then
 // clamped to [-1, 1]. Any t of the cube is a point of the box, so t need not be exact; the rows
 // a_j0 + a_j1 t_1 + a_j2 t_2 + a_j3 t_3 (that order) are compared with eps_j, whose bound holds on
@@ -230,6 +245,7 @@ namespace cullproof::exact_lanes {
 HWY_EXPORT(ObbPlaneKernel);
 HWY_EXPORT(ObbAnchorKernel);
 HWY_EXPORT(SpherePlaneKernel);
+HWY_EXPORT(AnchorInBallKernel);
 HWY_EXPORT(MaxMinLpKernel);
 
 void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
@@ -240,6 +256,10 @@ void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const doub
 void sphere_plane_stage(const ExactCertifiedFrustum& f, const double* c, double r, double mc, double T,
                         SpherePlaneStage& out) {
   HWY_DYNAMIC_DISPATCH(SpherePlaneKernel)(f, c, r, mc, T, out);
+}
+
+bool anchor_in_ball(const ExactCertifiedFrustum& f, const double* c, double r2) {
+  return HWY_DYNAMIC_DISPATCH(AnchorInBallKernel)(f, c, r2);
 }
 
 bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps) {

@@ -33,6 +33,10 @@ struct SpherePlaneStage {
 void sphere_plane_stage(const ExactCertifiedFrustum& f, const double* c, double r, double mc, double T,
                         SpherePlaneStage& out);
 
+/// Whether one of f's anchors x lies in the ball of centre c with r * r = r2:
+/// ((dx dx + dy dy) + dz dz)(1 + 8u) <= r2, d = x - c (the squared distance's bound, kDistance).
+bool anchor_in_ball(const ExactCertifiedFrustum& f, const double* c, double r2);
+
 /// Whether one of f's anchors, taken into the OBB's coordinates and clamped to the cube (a point
 /// of the box), has every row j < m at least eps[j] (rows a[j] = a_j0 + sum a_ji t_i).
 bool obb_anchor_witness(const ExactCertifiedFrustum& f, const Obb& b, int m, const double (*a)[4], const double* eps);
