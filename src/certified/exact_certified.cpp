@@ -196,7 +196,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <utility>
 
 namespace cullproof {
 
@@ -573,9 +575,13 @@ ExactCertifiedFrustum prepare_exact_certified(const CaseFrustum& cf) {
     p.d_out_sphere = next_up(p.d + ds);
     p.d_in_sphere = next_down(p.d - ds);
     a_max = std::max(a_max, p.a);
-    const double lane[11] = {p.nx, p.ny, p.nz, p.d, p.d_out_box, p.d_in_box, p.d_out_sphere, p.d_in_sphere,
-                             p.norm, p.a, p.ad};
-    for (int i = 0; i < 11; ++i) f.lanes[std::size_t(i)][std::size_t(f.count - 1)] = lane[i];
+    const std::pair<ExactCertifiedFrustum::Lane, double> lane[] = {
+        {f.kLaneNx, p.nx}, {f.kLaneNy, p.ny}, {f.kLaneNz, p.nz}, {f.kLaneD, p.d},
+        {f.kLaneDOutBox, p.d_out_box}, {f.kLaneDInBox, p.d_in_box},
+        {f.kLaneDOutSphere, p.d_out_sphere}, {f.kLaneDInSphere, p.d_in_sphere},
+        {f.kLaneNorm, p.norm}, {f.kLaneA, p.a}, {f.kLaneAd, p.ad}};
+    static_assert(std::size(lane) == ExactCertifiedFrustum::kLaneCount, "every lane filled");
+    for (const auto& [row, value] : lane) f.lanes[std::size_t(row)][std::size_t(f.count - 1)] = value;
   }
   for (unsigned set = 0; set < 64; ++set) {
     unsigned pos = 0, neg = 0;
@@ -1021,19 +1027,24 @@ Tri sphere_meets(const ExactCertifiedFrustum& f, unsigned J, const Sphere& s, co
 
 namespace {
 
-// The bounds of the rows of the planes in J (computed once stage 1 has not decided): W_j and
-// eps_j, X the volume's magnitude (AABB: M; OBB: M_c + H).
+// Row n's bounds for plane j: W = A'_j X + |d'_j| and eps = kRow u W (1 + kSlack), X the volume's
+// magnitude (AABB: M; OBB: M_c + H).
+inline void row_bounds(const ExactCertifiedFrustum& f, BoxRows& r, int n, int j, double X) noexcept {
+  const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+  r.plane[n] = j;
+  r.w[n] = p.a * X + p.ad;
+  r.eps[n] = r.w[n] * kEpsRow;
+}
+
+// The bounds of the rows of the planes in J (computed once stage 1 has not decided), the rows
+// kept in order.
 void finish_rows(const ExactCertifiedFrustum& f, BoxRows& r, double X, unsigned J) {
   int n = 0;
   for (int j = 0; j < r.m; ++j) {
     if (!(J >> j & 1)) continue;
-    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
     if (n != j)
       for (int i = 0; i < 4; ++i) r.a[n][i] = r.a[j][i];
-    r.plane[n] = j;
-    r.w[n] = p.a * X + p.ad;
-    r.eps[n] = r.w[n] * kEpsRow;
-    ++n;
+    row_bounds(f, r, n++, j, X);
   }
   r.m = n;
 }
@@ -1152,16 +1163,13 @@ Visibility exact_certified_aabb(const ExactCertifiedFrustum& f, const Aabb& b, E
 
 namespace {
 
-// The rows of the planes in J for stage 2 (finish_rows, from the lanes).
+// The rows of the planes in J for stage 2, from the plane stage's lanes (as finish_rows).
 void obb_rows(const ExactCertifiedFrustum& f, const exact_lanes::ObbPlaneStage& q, double X, BoxRows& r) noexcept {
   int n = 0;
   for (unsigned bits = q.J; bits != 0; bits &= bits - 1, ++n) {
     const int j = __builtin_ctz(bits);
-    const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
     for (int i = 0; i < 4; ++i) r.a[n][i] = q.a[i][j];
-    r.plane[n] = j;
-    r.w[n] = p.a * X + p.ad;
-    r.eps[n] = r.w[n] * kEpsRow;
+    row_bounds(f, r, n, j, X);
   }
   r.m = n;
 }

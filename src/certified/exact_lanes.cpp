@@ -1,5 +1,6 @@
-// Vector lanes for the exact-certified cascade's OBB stages (exact_lanes.hpp; Highway runtime
-// dispatch). A lane per plane, per anchor or per column of a tableau; every value is computed as the scalar derivation of
+// Vector lanes for the exact-certified cascade (exact_lanes.hpp; Highway runtime dispatch): the
+// plane stages of OBBs and spheres, the anchors, the small programme's pivots. A lane per plane,
+// per anchor or per column of a tableau; every value is computed as the scalar derivation of
 // exact_certified.cpp has it, by separate multiplies and adds in the same order (no fused
 // multiply-add), so that each target gives the same values, stages and verdicts.
 #undef HWY_TARGET_INCLUDE
@@ -18,11 +19,18 @@ HWY_BEFORE_NAMESPACE();
 namespace cullproof {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+using F = ExactCertifiedFrustum;
+
+// Lanes k.. of row `row` of f.lanes (one plane per lane).
+template <class D>
+HWY_INLINE hn::Vec<D> plane_lanes(D d, const F& f, F::Lane row, int k) {
+  return hn::LoadU(d, f.lanes[std::size_t(row)].data() + k);
+}
 
 // Stage 1 of an OBB (exact_certified.cpp, "Stage 1: planes" and "Spheres and OBBs"): per plane
 // s = (n'_x c_x + n'_y c_y) + n'_z c_z, the rows n'.e_i, rad = (|a_1| + |a_2|) + |a_3|, and the
 // comparisons of s + d_out +- rad and s + d_in +- rad with -T and T.
-void ObbPlaneKernel(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
+void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
                     exact_lanes::ObbPlaneStage& q) {
   const hn::CappedTag<double, 8> d;
   const int n = int(hn::Lanes(d));
@@ -30,8 +38,8 @@ void ObbPlaneKernel(const ExactCertifiedFrustum& f, const double* c, const doubl
   unsigned J = 0, crossing = 0, p_in = 0, pos[3] = {0, 0, 0}, neg[3] = {0, 0, 0};
   const auto zero = hn::Zero(d);
   for (int k = 0; k < f.count; k += n) {
-    const auto nx = hn::LoadU(d, f.lanes[0].data() + k), ny = hn::LoadU(d, f.lanes[1].data() + k),
-               nz = hn::LoadU(d, f.lanes[2].data() + k);
+    const auto nx = plane_lanes(d, f, F::kLaneNx, k), ny = plane_lanes(d, f, F::kLaneNy, k),
+               nz = plane_lanes(d, f, F::kLaneNz, k);
     const auto s = hn::Add(hn::Add(hn::Mul(nx, hn::Set(d, c[0])), hn::Mul(ny, hn::Set(d, c[1]))),
                            hn::Mul(nz, hn::Set(d, c[2])));
     hn::Vec<decltype(d)> a[3];
@@ -40,9 +48,9 @@ void ObbPlaneKernel(const ExactCertifiedFrustum& f, const double* c, const doubl
                      hn::Mul(nz, hn::Set(d, e[i][2])));
       hn::StoreU(a[i], d, q.a[i + 1] + k);
     }
-    hn::StoreU(hn::Add(s, hn::LoadU(d, f.lanes[3].data() + k)), d, q.a[0] + k);
+    hn::StoreU(hn::Add(s, plane_lanes(d, f, F::kLaneD, k)), d, q.a[0] + k);
     const auto rad = hn::Add(hn::Add(hn::Abs(a[0]), hn::Abs(a[1])), hn::Abs(a[2]));
-    const auto so = hn::Add(s, hn::LoadU(d, f.lanes[4].data() + k)), si = hn::Add(s, hn::LoadU(d, f.lanes[5].data() + k));
+    const auto so = hn::Add(s, plane_lanes(d, f, F::kLaneDOutBox, k)), si = hn::Add(s, plane_lanes(d, f, F::kLaneDInBox, k));
     const auto valid = hn::FirstN(d, std::size_t(f.count - k));
     if (!hn::AllFalse(d, hn::And(valid, hn::Lt(hn::Add(so, rad), neg_t)))) {
       q.outside = true;
@@ -68,7 +76,7 @@ void ObbPlaneKernel(const ExactCertifiedFrustum& f, const double* c, const doubl
 // Stage 1 of a sphere (exact_certified.cpp, "Spheres"), the scalar loop's operations per lane:
 // v = (n'_x c_x + n'_y c_y) + n'_z c_z, rho = r norm', (v + d_out) + rho against -T and so on;
 // the bound wc = up(A' mc + |d'|) with up(x) = x (1 + kSlack).
-void SpherePlaneKernel(const ExactCertifiedFrustum& f, const double* c, double r, double mc, double T,
+void SpherePlaneKernel(const F& f, const double* c, double r, double mc, double T,
                        exact_lanes::SpherePlaneStage& q) {
   const hn::CappedTag<double, 8> d;
   const int n = int(hn::Lanes(d));
@@ -76,11 +84,11 @@ void SpherePlaneKernel(const ExactCertifiedFrustum& f, const double* c, double r
   const auto slack = hn::Set(d, 1.0 + ExactMargins::kSlack);
   unsigned J = 0, crossing = 0, reach = 0, centre_in = 0;
   for (int k = 0; k < f.count; k += n) {
-    const auto load = [&](int i) { return hn::LoadU(d, f.lanes[std::size_t(i)].data() + k); };
-    const auto v = hn::Add(hn::Add(hn::Mul(load(0), hn::Set(d, c[0])), hn::Mul(load(1), hn::Set(d, c[1]))),
-                           hn::Mul(load(2), hn::Set(d, c[2])));
-    const auto rho = hn::Mul(radius, load(8));
-    const auto w_out = hn::Add(v, load(6)), w_in = hn::Add(v, load(7));
+    const auto load = [&](F::Lane row) { return plane_lanes(d, f, row, k); };
+    const auto v = hn::Add(hn::Add(hn::Mul(load(F::kLaneNx), hn::Set(d, c[0])), hn::Mul(load(F::kLaneNy), hn::Set(d, c[1]))),
+                           hn::Mul(load(F::kLaneNz), hn::Set(d, c[2])));
+    const auto rho = hn::Mul(radius, load(F::kLaneNorm));
+    const auto w_out = hn::Add(v, load(F::kLaneDOutSphere)), w_in = hn::Add(v, load(F::kLaneDInSphere));
     const auto valid = hn::FirstN(d, std::size_t(f.count - k));
     if (!hn::AllFalse(d, hn::And(valid, hn::Lt(hn::Add(w_out, rho), neg_t)))) {
       q.outside = true;
@@ -91,8 +99,8 @@ void SpherePlaneKernel(const ExactCertifiedFrustum& f, const double* c, double r
     crossing |= unsigned(mask_bits(d, hn::And(in_j, hn::Lt(hn::Sub(w_out, rho), neg_t)))) << k;
     reach |= unsigned(mask_bits(d, hn::And(in_j, hn::Ge(hn::Add(w_in, rho), t)))) << k;
     centre_in |= unsigned(mask_bits(d, hn::And(in_j, hn::Ge(w_in, t)))) << k;
-    hn::StoreU(hn::Add(v, load(3)), d, q.sc + k);
-    hn::StoreU(hn::Mul(hn::Add(hn::Mul(load(9), m), load(10)), slack), d, q.wc + k);
+    hn::StoreU(hn::Add(v, load(F::kLaneD)), d, q.sc + k);
+    hn::StoreU(hn::Mul(hn::Add(hn::Mul(load(F::kLaneA), m), load(F::kLaneAd)), slack), d, q.wc + k);
   }
   q.outside = false;
   q.J = J;

@@ -1,5 +1,5 @@
-// The exact-certified cascade's OBB stages that test several planes or points at once
-// (exact_lanes.cpp, Highway runtime dispatch; not installed). The arithmetic is the scalar
+// The exact-certified cascade's stages that test several planes, points or tableau columns at
+// once (exact_lanes.cpp, Highway runtime dispatch; not installed). The arithmetic is the scalar
 // derivation's (exact_certified.cpp), operation for operation: the same values on every target.
 #pragma once
 

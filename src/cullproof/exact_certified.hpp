@@ -123,9 +123,12 @@ struct ExactCertifiedFrustum {
   std::array<ExactCertifiedPlane, 6> plane{};
   int count = 0;
   /// The same planes by component, lane j for plane[j], zero past `count` (the plane stages of
-  /// OBBs and spheres test every plane at once): n'_x, n'_y, n'_z, d', d_out_box, d_in_box,
-  /// d_out_sphere, d_in_sphere, norm, A', |d'|.
-  std::array<std::array<double, 8>, 11> lanes{};
+  /// OBBs and spheres test every plane at once): lanes[kLaneNx][j] is plane[j].nx, and so on.
+  enum Lane : int {
+    kLaneNx, kLaneNy, kLaneNz, kLaneD, kLaneDOutBox, kLaneDInBox, kLaneDOutSphere, kLaneDInSphere,
+    kLaneNorm, kLaneA, kLaneAd, kLaneCount
+  };
+  std::array<std::array<double, 8>, kLaneCount> lanes{};
   bool empty = false;
   double t_box = 0, t_sphere = 0;  ///< kBox u max A', kSphere u max A', rounded up
   /// For each set of planes (bit j: plane[j]), whether their normals agree in sign on every axis,
