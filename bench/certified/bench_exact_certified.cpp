@@ -232,7 +232,8 @@ void register_stages(const char* kind, Classify classify) {
 //                   the boxes left cross a plane rather than lie within the certified margin;
 //   witness         left by the witness pass (a point of the box proved inside every plane);
 //   float_planes    left by the float pass's planes (J, and a p-vertex shared by J proved inside);
-//   combinations    left by the frame's combinations: what reaches the scalar cascade.
+//   combinations    left by the anchors and the frame's combinations: what reaches the scalar
+//                   cascade.
 void register_passes() {
   for (const std::string& d : distributions()) {
     benchmark::RegisterBenchmark(("passes/aabb/" + d).c_str(), [d](benchmark::State& s) {
@@ -276,14 +277,9 @@ void register_passes() {
           const AabbSoa gathered{g[0], g[1], g[2], g[3], g[4], g[5], n};
           FloatFirstResult r;
           exact_float_first(ef, gathered, seed, r, all);
-          std::uint32_t J[kChunk] = {};
           std::uint64_t out[kChunk / 64], met[kChunk / 64];
-          for (std::size_t q = 0; q < n; ++q) {
-            const bool open = r.open[q / 64] >> (q % 64) & 1u;
-            J[q] = open ? r.J[q] : 0u;
-            left[3] += open;
-          }
-          exact_float_combinations(ef, gathered, J, r.meet_ok, out, met);
+          for (std::size_t w = 0; w < bitset_words(n); ++w) left[3] += std::size_t(__builtin_popcountll(r.open[w]));
+          exact_float_open(ef, gathered, r, out, met);
           for (std::size_t w = 0; w < bitset_words(n); ++w)
             left[4] += std::size_t(__builtin_popcountll(r.open[w] & ~out[w] & ~met[w]));
         }

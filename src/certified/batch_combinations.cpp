@@ -107,7 +107,7 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
   const FirstPlanes<decltype(d)> pl(items, planes, lo, hi);
   const V safe = hn::Set(d, x_safe), half = hn::Set(d, 0.5f);
   const V g[3] = {hn::Set(d, seed[0]), hn::Set(d, seed[1]), hn::Set(d, seed[2])};
-  const Mk none = hn::Lt(half, half), all = hn::Eq(half, half);
+  const Mk none = hn::Lt(half, half);
   for (std::size_t w = 0; w < bitset_words(n); ++w) outside[w] = inside[w] = meet_ok[w] = meets[w] = open[w] = 0;
   const auto none_lo = hn::Set(du, std::uint32_t(no_combination)), none_hi = hn::Set(du, std::uint32_t(no_combination >> 32));
   for (std::size_t i = 0; i < n; i += N) {
@@ -115,19 +115,25 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
     for (int k = 0; k < 3; ++k)
       xb = hn::Max(xb, hn::Max(abs_bits(du, hn::LoadU(d, lo[k] + i)), abs_bits(du, hn::LoadU(d, hi[k] + i))));
     const V x = hn::BitCast(d, xb);  // the magnitude X (a NaN sorts high)
-    Mk out = none, held_all = all, p_in = all, strictly_out = none;
+    // Each comparison through the sign of a sum or difference (a sum of floats rounds to zero
+    // only when it is zero, and never changes sign; theta > 0): v < -theta iff fl(v + theta) < 0,
+    // v >= theta iff fl(v - theta) >= 0, so the smallest over the planes decides for all of them.
+    V low_out = hn::Set(d, 1.0f), low_held = low_out, low_strict = low_out, low_p_in = low_out;
     auto jbits = hn::Zero(du);
 #pragma GCC unroll 6
     for (int q = 0; q < planes; ++q) {
-      const V theta = hn::MulAdd(hn::Set(d, pl.t[q]), x, hn::Set(d, pl.delta[q])), ntheta = hn::Neg(theta);
+      const V theta = hn::MulAdd(hn::Set(d, pl.t[q]), x, hn::Set(d, pl.delta[q]));
       const V vp = pl.at(q, pl.pv[q], i), vn = pl.at(q, pl.nv[q], i);
-      const Mk held = hn::Ge(vn, theta);
-      out = hn::Or(out, hn::Lt(vp, ntheta));
-      held_all = hn::And(held_all, held);
-      p_in = hn::And(p_in, hn::Or(held, hn::Ge(vp, theta)));  // a plane of J: its p-vertex inside
-      strictly_out = hn::Or(strictly_out, hn::Lt(vn, ntheta));
-      jbits = hn::Or(jbits, hn::IfThenZeroElse(hn::RebindMask(du, held), hn::Set(du, 1u << q)));
+      const V held = hn::Sub(vn, theta);  // >= 0: the plane holds the box
+      low_out = hn::Min(low_out, hn::Add(vp, theta));
+      low_held = hn::Min(low_held, held);
+      low_p_in = hn::Min(low_p_in, hn::Max(held, hn::Sub(vp, theta)));  // a plane of J: its p-vertex inside
+      low_strict = hn::Min(low_strict, hn::Add(vn, theta));
+      jbits = hn::Or(jbits, hn::ShiftLeftSame(hn::ShiftRight<31>(hn::BitCast(du, held)), q));  // the sign: not held
     }
+    const V zero = hn::Zero(d);
+    const Mk out = hn::Lt(low_out, zero), held_all = hn::Ge(low_held, zero), p_in = hn::Ge(low_p_in, zero),
+             strictly_out = hn::Lt(low_strict, zero);
     const Mk ok = hn::Le(x, safe);  // false for NaN
     const Mk proved_out = hn::And(out, ok);
     const Mk rest = hn::AndNot(proved_out, ok);
@@ -157,13 +163,13 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
           xp = hn::Max(xp, abs_bits(du, p[k]));
           xc = hn::Max(xc, abs_bits(du, c[k]));
         }
-        Mk p_inside = all, c_inside = all;
+        V low_p = hn::Set(d, 1.0f), low_c = low_p;  // as above: the smallest fl(v - theta) over the planes
         for (int q = 0; q < planes; ++q) {
           const V t = hn::Set(d, pl.t[q]), delta = hn::Set(d, pl.delta[q]);
-          p_inside = hn::And(p_inside, hn::Ge(pl.at_point(q, p), hn::MulAdd(t, hn::BitCast(d, xp), delta)));
-          c_inside = hn::And(c_inside, hn::Ge(pl.at_point(q, c), hn::MulAdd(t, hn::BitCast(d, xc), delta)));
+          low_p = hn::Min(low_p, hn::Sub(pl.at_point(q, p), hn::MulAdd(t, hn::BitCast(d, xp), delta)));
+          low_c = hn::Min(low_c, hn::Sub(pl.at_point(q, c), hn::MulAdd(t, hn::BitCast(d, xc), delta)));
         }
-        proved_meet = hn::Or(proved_meet, hn::And(witness, hn::Or(p_inside, c_inside)));
+        proved_meet = hn::Or(proved_meet, hn::And(witness, hn::Ge(hn::Max(low_p, low_c), zero)));
       }
     }
     const std::uint64_t keep = lanes(std::min(N, n - i));
@@ -190,36 +196,48 @@ void FloatFirstKernel(const ExactCertifiedFrustum::FloatItem* items, int planes,
                     meets, open, meet_ok);
 }
 
-// Boxes [0, n) with their J (as FloatFirstKernel left them; neighbours best share it) on the
-// combinations within J: bit i of `outside` where one proves box i outside, of `meets` where
-// meet_ok has it and every combination within J is proved positive. Per vector only the
-// combinations within the union of its boxes' J are evaluated (comb_in, in words of 64).
-void FloatCombinationsKernel(const ExactCertifiedFrustum::FloatItem* items, const std::uint64_t* comb_in,
-                             float x_safe, const float* const* lo, const float* const* hi, std::size_t n,
-                             const std::uint32_t* J, const std::uint64_t* meet_ok, std::uint64_t* outside,
-                             std::uint64_t* meets) {
+// The open boxes, sorted by J (J[i] for box i of lo / hi; [0, n) padded with zeros, J = 0, to
+// whole vectors), on the combinations within the union of a vector's J: bit i of `outside` where
+// one within box i's J proves it outside (X <= x_safe), of `positive` where every one within its
+// J is proved positive on it. Only within J does a combination prove anything (outside J, one of
+// its planes holds the box, and where the others are >= 0 so is it) or need to be positive.
+void FloatOpenKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, const std::uint64_t* comb_in,
+                     float x_safe, const float* const* lo, const float* const* hi, const std::uint32_t* J,
+                     std::size_t n, std::uint64_t* outside, std::uint64_t* positive) {
   const hn::ScalableTag<float> d;
   const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
   using Mk = hn::Mask<decltype(d)>;
   const std::size_t N = hn::Lanes(d);
+  const ExactCertifiedFrustum::FloatItem* combination = items + planes;
   const V zero = hn::Zero(d), safe = hn::Set(d, x_safe);
-  const Mk none = hn::Lt(zero, zero);
-  for (std::size_t w = 0; w < bitset_words(n); ++w) outside[w] = meets[w] = 0;
+  for (std::size_t w = 0; w < bitset_words(n); ++w) outside[w] = positive[w] = 0;
   for (std::size_t i = 0; i < n; i += N) {
-    std::uint32_t any = 0;
-    for (std::size_t k = 0; k < N && i + k < n; ++k) any |= J[i + k];
+    std::uint32_t any = 0, every = 63;
+    for (std::size_t k = 0; k < std::min(N, n - i); ++k) any |= J[i + k], every &= J[i + k];
     V box[2][3];
     const V x = load_box(d, lo, hi, i, box);
+    // The combinations within every box's J (most, the boxes sorted by J): fl(v + theta) < 0 iff
+    // v < -theta and fl(v - theta) < 0 iff v < theta (a sum of floats rounds to zero only when
+    // it is zero), so the smallest of each decides over all of them.
+    V low_out = hn::Set(d, 1.0f), low_fail = low_out;
+    for (std::size_t w = 0; w < 2; ++w)
+      for (std::uint64_t bits = comb_in[2 * every + w]; bits != 0; bits &= bits - 1) {
+        const ExactCertifiedFrustum::FloatItem& it = combination[64 * w + std::size_t(__builtin_ctzll(bits))];
+        const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
+        const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
+        const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
+        low_out = hn::Min(low_out, hn::Add(vp, theta));
+        low_fail = hn::Min(low_fail, hn::Sub(vp, theta));
+      }
+    Mk out = hn::Lt(low_out, zero), fail = hn::Lt(low_fail, zero);
+    // The others, each on the boxes whose J holds its planes.
     const auto jv = hn::LoadU(du, J + i);
-    Mk out = none, fail = none;
-    // Only within J does a combination prove anything (outside J, one of its planes holds the
-    // box, and where the others are >= 0 so is it) or need to be positive.
     Mk not_held[6];
     for (int j = 0; j < 6; ++j) not_held[j] = hn::RebindMask(d, hn::TestBit(jv, hn::Set(du, 1u << j)));
     for (std::size_t w = 0; w < 2; ++w)
-      for (std::uint64_t bits = comb_in[2 * any + w]; bits != 0; bits &= bits - 1) {
-        const ExactCertifiedFrustum::FloatItem& it = items[64 * w + std::size_t(__builtin_ctzll(bits))];
+      for (std::uint64_t bits = comb_in[2 * any + w] & ~comb_in[2 * every + w]; bits != 0; bits &= bits - 1) {
+        const ExactCertifiedFrustum::FloatItem& it = combination[64 * w + std::size_t(__builtin_ctzll(bits))];
         const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
         const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
         const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
@@ -227,13 +245,9 @@ void FloatCombinationsKernel(const ExactCertifiedFrustum::FloatItem* items, cons
         out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
         fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
       }
-    const Mk meet = hn::Not(fail);
-    const Mk proved_out = hn::And(out, hn::Le(x, safe));  // false for NaN
     const std::uint64_t keep = lanes(std::min(N, n - i));
-    const std::uint64_t ob = mask_bits(d, proved_out) & keep, mb = mask_bits(d, meet) & keep;
-    const std::uint64_t ok = meet_ok[i / 64] >> (i % 64);
-    outside[i / 64] |= ob << (i % 64);
-    meets[i / 64] |= (mb & ok & ~ob) << (i % 64);
+    outside[i / 64] |= (mask_bits(d, hn::And(out, hn::Le(x, safe))) & keep) << (i % 64);  // false for NaN
+    positive[i / 64] |= (mask_bits(d, hn::Not(fail)) & keep) << (i % 64);
   }
 }
 
@@ -245,7 +259,7 @@ HWY_AFTER_NAMESPACE();
 namespace cullproof {
 
 HWY_EXPORT(FloatFirstKernel);
-HWY_EXPORT(FloatCombinationsKernel);
+HWY_EXPORT(FloatOpenKernel);
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
                        FloatFirstResult& r, const std::uint64_t* tried) {
   const float g[3] = {seed.x, seed.y, seed.z};
@@ -268,12 +282,45 @@ void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, cons
   run(AabbSoa{pad[0], pad[1], pad[2], pad[3], pad[4], pad[5], rest}, full);
 }
 
-void exact_float_combinations(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint32_t* J,
-                              const std::uint64_t* meet_ok, std::uint64_t* outside, std::uint64_t* meets) {
-  const float* lo[3] = {boxes.min_x, boxes.min_y, boxes.min_z};
-  const float* hi[3] = {boxes.max_x, boxes.max_y, boxes.max_z};
-  HWY_DYNAMIC_DISPATCH(FloatCombinationsKernel)(f.float_item.data() + f.float_planes, f.comb_in[0].data(),
-                                                f.float_x_safe, lo, hi, boxes.count, J, meet_ok, outside, meets);
+void exact_float_open(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const FloatFirstResult& r,
+                      std::uint64_t* outside, std::uint64_t* meets) {
+  constexpr std::size_t kCap = FloatFirstResult::kCapacity, kPad = 16;  // the widest vector
+  const std::size_t words = bitset_words(boxes.count);
+  for (std::size_t w = 0; w < words; ++w) outside[w] = meets[w] = 0;
+  // The open boxes sorted by J (a counting sort), copied side by side.
+  std::uint32_t count[64] = {}, start[64];
+  std::size_t open = 0;
+  for (std::size_t w = 0; w < words; ++w)
+    for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) ++count[r.J[w * 64 + std::size_t(__builtin_ctzll(b))]], ++open;
+  if (open == 0) return;
+  for (std::uint32_t J = 0, at = 0; J < 64; ++J) start[J] = at, at += count[J];
+  alignas(64) float box[6][kCap + kPad];
+  alignas(64) std::uint32_t J[kCap + kPad], order[kCap];
+  const float* src[6] = {boxes.min_x, boxes.min_y, boxes.min_z, boxes.max_x, boxes.max_y, boxes.max_z};
+  for (std::size_t w = 0; w < words; ++w)
+    for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) {
+      const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
+      const std::uint32_t p = start[r.J[q]]++;
+      order[p] = std::uint32_t(q), J[p] = r.J[q];
+      for (int k = 0; k < 6; ++k) box[k][p] = src[k][q];
+    }
+  for (std::size_t p = open; p < open + kPad; ++p) {  // whole vectors: zeros, J = 0
+    J[p] = 0;
+    for (int k = 0; k < 6; ++k) box[k][p] = 0.0f;
+  }
+  std::uint64_t out[kCap / 64], positive[kCap / 64];
+  const float* lo[3] = {box[0], box[1], box[2]};
+  const float* hi[3] = {box[3], box[4], box[5]};
+  HWY_DYNAMIC_DISPATCH(FloatOpenKernel)(f.float_item.data(), f.float_planes, f.comb_in[0].data(),
+                                        f.float_x_safe, lo, hi, J, open, out, positive);
+  for (std::size_t p = 0; p < open; ++p) {
+    const std::size_t q = order[p];
+    const std::uint64_t bit = std::uint64_t{1} << (q % 64);
+    if (out[p / 64] >> (p % 64) & 1u)
+      outside[q / 64] |= bit;
+    else if ((positive[p / 64] >> (p % 64) & 1u) && (r.meet_ok[q / 64] & bit))
+      meets[q / 64] |= bit;
+  }
 }
 
 }  // namespace cullproof

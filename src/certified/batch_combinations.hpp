@@ -28,11 +28,11 @@ struct FloatFirstResult {
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
                        FloatFirstResult& r, const std::uint64_t* tried = nullptr);
 
-/// The float pass on the frame's combinations, for boxes the first pass left open (J and
-/// meet_ok as it gave them; boxes sharing J placed side by side cost the least): bit i of `outside` where a
-/// combination proves box i outside, of `meets` where meet_ok has it and every combination within
-/// J is proved positive on it.
-void exact_float_combinations(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint32_t* J,
-                              const std::uint64_t* meet_ok, std::uint64_t* outside, std::uint64_t* meets);
+/// The float pass on the boxes the first pass left open (`r`, as it gave them for `boxes`), on the
+/// combinations within their J: bit i of `outside` where one proves box i outside, of `meets`
+/// where `meet_ok` has it and every combination within J is proved positive on it. The open boxes
+/// are sorted by J first and copied side by side, so that a vector's boxes mostly share J.
+void exact_float_open(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const FloatFirstResult& r,
+                      std::uint64_t* outside, std::uint64_t* meets);
 
 }  // namespace cullproof

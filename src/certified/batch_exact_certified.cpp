@@ -67,15 +67,8 @@ class OpenBoxes {
     settle_bits(r.outside, words, Visibility::outside);
     settle_bits(r.inside, words, Visibility::inside);
     settle_bits(r.meets, words, Visibility::intersecting);
-    // The open ones in place: decided boxes take J = 0 (no combination), so that a vector's
-    // combinations are those within the union of its open boxes' J (grouping the boxes by J
-    // first costs about what it saves).
     std::uint64_t out[kOpen / 64], met[kOpen / 64];
-    for (std::size_t q = 0; q < words * 64; ++q) J_[q] = (r.open[q / 64] >> (q % 64) & 1u) ? r.J[q] : 0u;
-    for (std::size_t q = n_; q < words * 64; ++q)
-      for (int k = 0; k < 6; ++k) box_[k][q] = 0.0f;
-    exact_float_combinations(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, J_, r.meet_ok, out,
-                             met);
+    exact_float_open(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, r, out, met);
     for (std::size_t w = 0; w < words; ++w)
       for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) {
         const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
@@ -102,7 +95,7 @@ class OpenBoxes {
   Visibility* verdicts_;
   glm::vec3 seed_;
   std::size_t n_ = 0, first_ = 0;
-  std::uint32_t index_[kOpen], J_[kOpen];
+  std::uint32_t index_[kOpen];
   std::uint64_t tried_[kOpen / 64] = {};
   FloatFirstResult first_pass_;
   alignas(64) Boxes box_;

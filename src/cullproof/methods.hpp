@@ -280,8 +280,9 @@ class Prepared final : public PreparedFrustum {
   template <class K>
   void many(const K* v, std::size_t n, Answer* a) {
     if constexpr (std::is_invocable_v<const B&, S&, const K*, std::size_t, Visibility*>) {
-      // The method's own array form writes verdicts; they are handed on in chunks.
-      constexpr std::size_t kChunk = 256;
+      // The method's own array form writes verdicts; they are handed on in chunks, large enough
+      // that a form which gathers what its first pass leaves across its input sees a whole frame.
+      constexpr std::size_t kChunk = 4096;
       Visibility buf[kChunk];
       for (std::size_t i = 0; i < n; i += kChunk) {
         const std::size_t m = n - i < kChunk ? n - i : kChunk;

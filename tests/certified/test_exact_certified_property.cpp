@@ -75,9 +75,8 @@ bool float_pass(const ExactCertifiedFrustum& f, const Aabb& b, const glm::vec3& 
   if (r.outside[0] & 1u) return v = Visibility::outside, true;
   if (r.inside[0] & 1u) return v = Visibility::inside, true;
   if (r.meets[0] & 1u) return v = Visibility::intersecting, true;
-  std::uint32_t J[64] = {r.J[0]};
   std::uint64_t out = 0, met = 0;
-  exact_float_combinations(f, one, J, r.meet_ok, &out, &met);
+  exact_float_open(f, one, r, &out, &met);
   if (out & 1u) return v = Visibility::outside, true;
   if (met & 1u) return v = Visibility::intersecting, true;
   return false;

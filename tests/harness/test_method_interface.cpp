@@ -126,14 +126,14 @@ TEST(MethodInterface, ABatchFormGivesTheSameAnswersAsItsClassify) {
         for (std::size_t i = 0; i < n; ++i) out[i] = user_pn(s, b[i], false);
       });
   EXPECT_TRUE(m.has_batch());
-  const gen::Frame fr = gen::draw_frame(gen::Distribution::near_boundary, 3, 0, 600, kAabbKind);
-  ASSERT_EQ(fr.volumes.size(), 600u);
+  const gen::Frame fr = gen::draw_frame(gen::Distribution::near_boundary, 3, 0, 9000, kAabbKind);
+  ASSERT_EQ(fr.volumes.size(), 9000u);
   std::vector<Aabb> boxes;
   for (const Volume& v : fr.volumes) boxes.push_back(std::get<Aabb>(v));
   const auto p = m.prepare(fr.frustum);
   std::vector<Answer> out(boxes.size());
   p->classify_batch(boxes.data(), boxes.size(), out.data());
-  EXPECT_EQ(batch_calls.load(), 3) << "600 volumes in chunks of 256";
+  EXPECT_EQ(batch_calls.load(), 3) << "9,000 volumes in chunks of 4,096";
   for (std::size_t i = 0; i < boxes.size(); ++i) EXPECT_EQ(out[i], p->classify(fr.volumes[i])) << i;
 }
 
