@@ -258,28 +258,18 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace cullproof {
 
+static_assert(HWY_MAX_BYTES / sizeof(float) <= kReadable, "a vector reads at most kReadable floats");
+
 HWY_EXPORT(FloatFirstKernel);
 HWY_EXPORT(FloatOpenKernel);
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
                        FloatFirstResult& r, const std::uint64_t* tried) {
   const float g[3] = {seed.x, seed.y, seed.z};
-  auto run = [&](const AabbSoa& s, std::size_t at) {
-    const float* lo[3] = {s.min_x, s.min_y, s.min_z};
-    const float* hi[3] = {s.max_x, s.max_y, s.max_z};
-    HWY_DYNAMIC_DISPATCH(FloatFirstKernel)(f.float_item.data(), f.float_planes, f.float_complete, f.float_x_safe,
-                                           f.float_no_combination, g, tried ? tried + at / 64 : nullptr, lo, hi, s.count,
-                                           r.J + at, r.outside + at / 64,
-                                           r.inside + at / 64, r.meets + at / 64, r.open + at / 64,
-                                           r.meet_ok + at / 64);
-  };
-  const std::size_t full = part.count / 64 * 64, rest = part.count - full;
-  if (full > 0) run(AabbSoa{part.min_x, part.min_y, part.min_z, part.max_x, part.max_y, part.max_z, full}, 0);
-  if (rest == 0) return;
-  // The tail through a copy padded with zeros (the kernel reads whole vectors).
-  alignas(64) float pad[6][64] = {};
-  const float* src[6] = {part.min_x, part.min_y, part.min_z, part.max_x, part.max_y, part.max_z};
-  for (int k = 0; k < 6; ++k) std::memcpy(pad[k], src[k] + full, rest * sizeof(float));
-  run(AabbSoa{pad[0], pad[1], pad[2], pad[3], pad[4], pad[5], rest}, full);
+  const float* lo[3] = {part.min_x, part.min_y, part.min_z};
+  const float* hi[3] = {part.max_x, part.max_y, part.max_z};
+  HWY_DYNAMIC_DISPATCH(FloatFirstKernel)(f.float_item.data(), f.float_planes, f.float_complete, f.float_x_safe,
+                                         f.float_no_combination, g, tried, lo, hi, part.count, r.J, r.outside,
+                                         r.inside, r.meets, r.open, r.meet_ok);
 }
 
 void exact_float_open(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const FloatFirstResult& r,

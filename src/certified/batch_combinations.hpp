@@ -24,7 +24,10 @@ struct FloatFirstResult {
 
 /// The first float pass (f.float_planes > 0) over at most kCapacity boxes: the planes, and for
 /// boxes they leave, the witness points (`seed` clamped to the box, and its centre), except for
-/// boxes whose bit is set in `tried` (may be null): their witness points failed before.
+/// boxes whose bit is set in `tried` (may be null): their witness points failed before. The
+/// arrays of `part` are read in whole vectors: readable up to part.count rounded up to
+/// kReadable (what lies past part.count decides nothing).
+inline constexpr std::size_t kReadable = 16;
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
                        FloatFirstResult& r, const std::uint64_t* tried = nullptr);
 

@@ -44,14 +44,15 @@ class OpenBoxes {
     if (n_ > 0 && base + part.count - first_ > 0x7fffffffu) flush();  // positions kept in 32 bits
     if (n_ == 0) first_ = base;
     const float* src[6] = {part.min_x, part.min_y, part.min_z, part.max_x, part.max_y, part.max_z};
+    std::size_t from = n_;  // boxes [from, n_) are this chunk's
     for (std::size_t w = 0; w < bitset_words(part.count); ++w)
       for (std::uint64_t b = open[w]; b != 0; b &= b - 1) {
         const std::size_t j = w * 64 + std::size_t(__builtin_ctzll(b));
         index_[n_] = std::uint32_t(base - first_ + j);
         for (int k = 0; k < 6; ++k) box_[k][n_] = src[k][j];
-        tried_[n_ / 64] = (tried_[n_ / 64] & ~(std::uint64_t{1} << (n_ % 64))) | (std::uint64_t{tried} << (n_ % 64));
-        if (++n_ == kChunk) flush();
+        if (++n_ == kChunk) mark_tried(from, tried), flush(), from = 0;
       }
+    mark_tried(from, tried);
   }
 
   void flush() {
@@ -61,6 +62,8 @@ class OpenBoxes {
       n_ = 0;
       return;
     }
+    for (std::size_t q = n_; q < (n_ + kReadable - 1) / kReadable * kReadable; ++q)  // whole vectors
+      for (int k = 0; k < 6; ++k) box_[k][q] = 0.0f;
     exact_float_first(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, seed_, first_pass_, tried_);
     const FloatFirstResult& r = first_pass_;
     const std::size_t words = bitset_words(n_);
@@ -82,6 +85,15 @@ class OpenBoxes {
 
  private:
   static constexpr std::size_t kOpen = kChunk;
+  // Bits [from, n_) of tried_ set to `tried`.
+  void mark_tried(std::size_t from, bool tried) {
+    for (std::size_t q = from; q < n_;) {
+      const std::size_t w = q / 64, end = std::min(n_, (w + 1) * 64);
+      const std::uint64_t bits = (end - q == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (end - q)) - 1)) << (q % 64);
+      tried_[w] = tried ? tried_[w] | bits : tried_[w] & ~bits;
+      q = end;
+    }
+  }
   using Boxes = float[6][kOpen];
   Visibility cascade(const Boxes& a, std::size_t q) const {
     return exact_certified_aabb(f_, Aabb{{a[0][q], a[1][q], a[2][q]}, {a[3][q], a[4][q], a[5][q]}});
