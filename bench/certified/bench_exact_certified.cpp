@@ -277,11 +277,11 @@ void register_passes() {
           const AabbSoa gathered{g[0], g[1], g[2], g[3], g[4], g[5], n};
           FloatFirstResult r;
           exact_float_first(ef, gathered, seed, r, all);
-          std::uint64_t out[kChunk / 64], met[kChunk / 64];
-          for (std::size_t w = 0; w < bitset_words(n); ++w) left[3] += std::size_t(__builtin_popcountll(r.open[w]));
-          exact_float_open(ef, gathered, r, out, met);
-          for (std::size_t w = 0; w < bitset_words(n); ++w)
-            left[4] += std::size_t(__builtin_popcountll(r.open[w] & ~out[w] & ~met[w]));
+          FloatOpenResult o;
+          exact_float_open(ef, gathered, r, o);
+          left[3] += o.count;
+          for (std::size_t p = 0; p < o.count; ++p)
+            left[4] += !((o.outside[p / 64] | o.meets[p / 64]) >> (p % 64) & 1u);
         }
       }
       for (auto _ : s) benchmark::DoNotOptimize(total);

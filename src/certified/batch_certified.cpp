@@ -428,14 +428,15 @@ void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, con
   const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
   using VU = hn::Vec<decltype(du)>;
-  using M = hn::Mask<decltype(d)>;
   const std::size_t N = hn::Lanes(d);
-  const PlaneVecs<decltype(d)> pv(d, planes, count);
-  M low[6][3];  // the n-vertex reads min on axis j where n'_j >= 0
+  // The plane constants stay in memory, broadcast where used (an operand of the multiply-add):
+  // held as 24 vectors besides the box, the points and the masks, they would not fit the
+  // registers. The n-vertex reads min on axis j where n'_j >= 0.
+  const float* q[6][3];
   for (int k = 0; k < count; ++k) {
-    low[k][0] = hn::Ge(pv.nx[k], hn::Zero(d));
-    low[k][1] = hn::Ge(pv.ny[k], hn::Zero(d));
-    low[k][2] = hn::Ge(pv.nz[k], hn::Zero(d));
+    q[k][0] = planes[k].nx >= 0.0f ? a.min[0] : a.max[0];
+    q[k][1] = planes[k].ny >= 0.0f ? a.min[1] : a.max[1];
+    q[k][2] = planes[k].nz >= 0.0f ? a.min[2] : a.max[2];
   }
   const V tv = hn::Set(d, t), half = hn::Set(d, 0.5f), inf = hn::Set(d, HUGE_VALF);
   const V gv[3] = {hn::Set(d, g[0]), hn::Set(d, g[1]), hn::Set(d, g[2])};
@@ -445,22 +446,23 @@ void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, con
     if (todo[w] != 0)
       for (std::size_t j = 0; j < 64; j += N) {
         const std::size_t i = w * 64 + j;
-        V lo[3], hi[3], p[3], c[3];
+        V p[3], c[3];
         VU mb = hn::Zero(du), mp = hn::Zero(du);
         for (int k = 0; k < 3; ++k) {
-          lo[k] = hn::LoadU(d, a.min[k] + i);
-          hi[k] = hn::LoadU(d, a.max[k] + i);
-          mb = hn::Max(mb, hn::Max(abs_bits(du, lo[k]), abs_bits(du, hi[k])));
-          p[k] = hn::Min(hn::Max(gv[k], lo[k]), hi[k]);
+          const V lo = hn::LoadU(d, a.min[k] + i), hi = hn::LoadU(d, a.max[k] + i);
+          mb = hn::Max(mb, hn::Max(abs_bits(du, lo), abs_bits(du, hi)));
+          p[k] = hn::Min(hn::Max(gv[k], lo), hi);
           mp = hn::Max(mp, abs_bits(du, p[k]));
-          c[k] = hn::Mul(hn::Add(lo[k], hi[k]), half);
+          c[k] = hn::Mul(hn::Add(lo, hi), half);
         }
         V wp = inf, wc = inf, wq = inf;
         for (int k = 0; k < count; ++k) {
-          wp = hn::Min(wp, plane3(pv.nx[k], pv.ny[k], pv.nz[k], pv.din[k], p[0], p[1], p[2]));
-          wc = hn::Min(wc, plane3(pv.nx[k], pv.ny[k], pv.nz[k], pv.din[k], c[0], c[1], c[2]));
-          wq = hn::Min(wq, plane3(pv.nx[k], pv.ny[k], pv.nz[k], pv.dout[k], hn::IfThenElse(low[k][0], lo[0], hi[0]),
-                                  hn::IfThenElse(low[k][1], lo[1], hi[1]), hn::IfThenElse(low[k][2], lo[2], hi[2])));
+          const CertPlane& s = planes[k];
+          const V nx = hn::Set(d, s.nx), ny = hn::Set(d, s.ny), nz = hn::Set(d, s.nz), din = hn::Set(d, s.d_in);
+          wp = hn::Min(wp, plane3(nx, ny, nz, din, p[0], p[1], p[2]));
+          wc = hn::Min(wc, plane3(nx, ny, nz, din, c[0], c[1], c[2]));
+          wq = hn::Min(wq, plane3(nx, ny, nz, hn::Set(d, s.d_out), hn::LoadU(d, q[k][0] + i), hn::LoadU(d, q[k][1] + i),
+                                  hn::LoadU(d, q[k][2] + i)));
         }
         const V tb = hn::Mul(tv, hn::BitCast(d, mb)), tp = hn::Mul(tv, hn::BitCast(d, mp));
         const auto inside_point = hn::Or(hn::Ge(wp, tp), hn::Ge(wc, tb));

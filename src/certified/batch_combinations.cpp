@@ -273,44 +273,39 @@ void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, cons
 }
 
 void exact_float_open(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const FloatFirstResult& r,
-                      std::uint64_t* outside, std::uint64_t* meets) {
-  constexpr std::size_t kCap = FloatFirstResult::kCapacity, kPad = 16;  // the widest vector
+                      FloatOpenResult& o) {
+  constexpr std::size_t kCap = FloatFirstResult::kCapacity, kPad = kReadable;
   const std::size_t words = bitset_words(boxes.count);
-  for (std::size_t w = 0; w < words; ++w) outside[w] = meets[w] = 0;
   // The open boxes sorted by J (a counting sort), copied side by side.
   std::uint32_t count[64] = {}, start[64];
   std::size_t open = 0;
   for (std::size_t w = 0; w < words; ++w)
     for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) ++count[r.J[w * 64 + std::size_t(__builtin_ctzll(b))]], ++open;
+  o.count = open;
   if (open == 0) return;
   for (std::uint32_t J = 0, at = 0; J < 64; ++J) start[J] = at, at += count[J];
   alignas(64) float box[6][kCap + kPad];
-  alignas(64) std::uint32_t J[kCap + kPad], order[kCap];
+  alignas(64) std::uint32_t J[kCap + kPad];
+  std::uint64_t meet_ok[kCap / 64] = {};  // by position
   const float* src[6] = {boxes.min_x, boxes.min_y, boxes.min_z, boxes.max_x, boxes.max_y, boxes.max_z};
   for (std::size_t w = 0; w < words; ++w)
     for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) {
       const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
       const std::uint32_t p = start[r.J[q]]++;
-      order[p] = std::uint32_t(q), J[p] = r.J[q];
+      o.order[p] = std::uint32_t(q), J[p] = r.J[q];
+      meet_ok[p / 64] |= (r.meet_ok[w] >> (q % 64) & 1u) << (p % 64);
       for (int k = 0; k < 6; ++k) box[k][p] = src[k][q];
     }
   for (std::size_t p = open; p < open + kPad; ++p) {  // whole vectors: zeros, J = 0
     J[p] = 0;
     for (int k = 0; k < 6; ++k) box[k][p] = 0.0f;
   }
-  std::uint64_t out[kCap / 64], positive[kCap / 64];
+  std::uint64_t positive[kCap / 64];
   const float* lo[3] = {box[0], box[1], box[2]};
   const float* hi[3] = {box[3], box[4], box[5]};
   HWY_DYNAMIC_DISPATCH(FloatOpenKernel)(f.float_item.data(), f.float_planes, f.comb_in[0].data(),
-                                        f.float_x_safe, lo, hi, J, open, out, positive);
-  for (std::size_t p = 0; p < open; ++p) {
-    const std::size_t q = order[p];
-    const std::uint64_t bit = std::uint64_t{1} << (q % 64);
-    if (out[p / 64] >> (p % 64) & 1u)
-      outside[q / 64] |= bit;
-    else if ((positive[p / 64] >> (p % 64) & 1u) && (r.meet_ok[q / 64] & bit))
-      meets[q / 64] |= bit;
-  }
+                                        f.float_x_safe, lo, hi, J, open, o.outside, positive);
+  for (std::size_t w = 0; w < bitset_words(open); ++w) o.meets[w] = positive[w] & meet_ok[w] & ~o.outside[w];
 }
 
 }  // namespace cullproof

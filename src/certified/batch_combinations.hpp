@@ -31,11 +31,19 @@ inline constexpr std::size_t kReadable = 16;
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
                        FloatFirstResult& r, const std::uint64_t* tried = nullptr);
 
+/// What the float pass on the open boxes gives: the `count` boxes the first pass left open, the
+/// p-th being box order[p] (sorted by J); bit p of `outside` where a combination proves it
+/// outside, of `meets` where `meet_ok` has it and every combination within J is proved positive.
+struct FloatOpenResult {
+  std::size_t count = 0;
+  std::uint32_t order[FloatFirstResult::kCapacity];
+  std::uint64_t outside[FloatFirstResult::kCapacity / 64], meets[FloatFirstResult::kCapacity / 64];
+};
+
 /// The float pass on the boxes the first pass left open (`r`, as it gave them for `boxes`), on the
-/// combinations within their J: bit i of `outside` where one proves box i outside, of `meets`
-/// where `meet_ok` has it and every combination within J is proved positive on it. The open boxes
-/// are sorted by J first and copied side by side, so that a vector's boxes mostly share J.
+/// combinations within their J. The open boxes are sorted by J first and copied side by side, so
+/// that a vector's boxes mostly share J.
 void exact_float_open(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const FloatFirstResult& r,
-                      std::uint64_t* outside, std::uint64_t* meets);
+                      FloatOpenResult& o);
 
 }  // namespace cullproof

@@ -70,16 +70,13 @@ class OpenBoxes {
     settle_bits(r.outside, words, Visibility::outside);
     settle_bits(r.inside, words, Visibility::inside);
     settle_bits(r.meets, words, Visibility::intersecting);
-    std::uint64_t out[kOpen / 64], met[kOpen / 64];
-    exact_float_open(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, r, out, met);
-    for (std::size_t w = 0; w < words; ++w)
-      for (std::uint64_t b = r.open[w]; b != 0; b &= b - 1) {
-        const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
-        const std::uint64_t bit = std::uint64_t{1} << (q % 64);
-        verdicts_[first_ + index_[q]] = (out[w] & bit)   ? Visibility::outside
-                                        : (met[w] & bit) ? Visibility::intersecting
-                                                         : cascade(box_, q);
-      }
+    exact_float_open(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, r, open_);
+    for (std::size_t p = 0; p < open_.count; ++p) {
+      const std::size_t q = open_.order[p];
+      verdicts_[first_ + index_[q]] = (open_.outside[p / 64] >> (p % 64) & 1u) ? Visibility::outside
+                                      : (open_.meets[p / 64] >> (p % 64) & 1u) ? Visibility::intersecting
+                                                                               : cascade(box_, q);
+    }
     n_ = 0;
   }
 
@@ -110,6 +107,7 @@ class OpenBoxes {
   std::uint32_t index_[kOpen];
   std::uint64_t tried_[kOpen / 64] = {};
   FloatFirstResult first_pass_;
+  FloatOpenResult open_;
   alignas(64) Boxes box_;
 };
 

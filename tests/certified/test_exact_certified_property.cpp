@@ -75,10 +75,10 @@ bool float_pass(const ExactCertifiedFrustum& f, const Aabb& b, const glm::vec3& 
   if (r.outside[0] & 1u) return v = Visibility::outside, true;
   if (r.inside[0] & 1u) return v = Visibility::inside, true;
   if (r.meets[0] & 1u) return v = Visibility::intersecting, true;
-  std::uint64_t out = 0, met = 0;
-  exact_float_open(f, one, r, &out, &met);
-  if (out & 1u) return v = Visibility::outside, true;
-  if (met & 1u) return v = Visibility::intersecting, true;
+  FloatOpenResult o;
+  exact_float_open(f, one, r, o);
+  if (o.count == 1 && (o.outside[0] & 1u)) return v = Visibility::outside, true;
+  if (o.count == 1 && (o.meets[0] & 1u)) return v = Visibility::intersecting, true;
   return false;
 }
 
