@@ -11,6 +11,9 @@
 //                                            timed: exact over certified of the summed times
 //                                            (a shared machine's drift moves both alike)
 //   batch/<kind>/<distribution>/<method>     ns per volume through classify_batch
+//   batch-ratio/<kind>/<distribution>         the certified and exact array forms through
+//                                            classify_batch in turn, frame by frame, each call
+//                                            timed: exact over certified of the summed times
 //   stages/<kind>/<distribution>             counters planes, axes, exact (fractions of the
 //                                            volumes decided by each stage) and cases; the timed
 //                                            loop classifies the volumes that reach the exact
@@ -192,6 +195,41 @@ void register_batch(const char* kind, const char* name) {
   }
 }
 
+// The two array forms through classify_batch in turn, frame by frame, each call timed: the ratio
+// of the summed times (as ratio/, steadier than two batch/ runs on a shared machine).
+template <class K>
+void register_batch_ratio(const char* kind, const char* base_name, const char* exact_name) {
+  for (const std::string& d : distributions()) {
+    benchmark::RegisterBenchmark((std::string("batch-ratio/") + kind + "/" + d).c_str(), [d, base_name, exact_name](benchmark::State& s) {
+      const auto& fr = frames<K>(d);
+      const Method* base = find_builtin(base_name);
+      const Method* exact = find_builtin(exact_name);
+      std::vector<std::unique_ptr<PreparedFrustum>> pb, pe;
+      for (const CaseFrustum& f : fr.frustum) pb.push_back(base->prepare(f)), pe.push_back(exact->prepare(f));
+      std::vector<Answer> out(kFrameSize);
+      using clock = std::chrono::steady_clock;
+      double tb = 0.0, te = 0.0;
+      for (auto _ : s) {
+        for (std::size_t f = 0; f < fr.volumes.size(); ++f) {
+          const auto t0 = clock::now();
+          pb[f]->classify_batch(fr.volumes[f].data(), fr.volumes[f].size(), out.data());
+          benchmark::DoNotOptimize(out.data());
+          const auto t1 = clock::now();
+          pe[f]->classify_batch(fr.volumes[f].data(), fr.volumes[f].size(), out.data());
+          benchmark::DoNotOptimize(out.data());
+          const auto t2 = clock::now();
+          tb += std::chrono::duration<double>(t1 - t0).count();
+          te += std::chrono::duration<double>(t2 - t1).count();
+        }
+        benchmark::ClobberMemory();
+      }
+      s.counters["exact_over_certified"] = te / tb;
+      s.counters["certified_ns"] = 1e9 * tb / double(s.iterations()) / double(fr.count);
+      s.counters["exact_ns"] = 1e9 * te / double(s.iterations()) / double(fr.count);
+    });
+  }
+}
+
 // Stage statistics on the campaign's cases (gen::draw, seed 1) of every distribution.
 template <class K, class Classify>
 void register_stages(const char* kind, Classify classify) {
@@ -306,6 +344,8 @@ int main(int argc, char** argv) {
   register_batch<Aabb>("aabb", "aabb-batch-exact-certified");
   register_batch<Sphere>("sphere", "sphere-batch-certified");
   register_batch<Sphere>("sphere", "sphere-batch-exact-certified");
+  register_batch_ratio<Aabb>("aabb", "pn-vertex-batch-certified", "aabb-batch-exact-certified");
+  register_batch_ratio<Sphere>("sphere", "sphere-batch-certified", "sphere-batch-exact-certified");
   register_passes();
   register_stages<Aabb>("aabb", [](const ExactCertifiedFrustum& f, const Aabb& b, ExactStage* s) {
     return exact_certified_aabb(f, b, s);
