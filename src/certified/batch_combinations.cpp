@@ -232,19 +232,21 @@ void FloatOpenKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, 
       }
     Mk out = hn::Lt(low_out, zero), fail = hn::Lt(low_fail, zero);
     // The others, each on the boxes whose J holds its planes.
-    const auto jv = hn::LoadU(du, J + i);
-    Mk not_held[6];
-    for (int j = 0; j < 6; ++j) not_held[j] = hn::RebindMask(d, hn::TestBit(jv, hn::Set(du, 1u << j)));
-    for (std::size_t w = 0; w < 2; ++w)
-      for (std::uint64_t bits = comb_in[2 * any + w] & ~comb_in[2 * every + w]; bits != 0; bits &= bits - 1) {
-        const ExactCertifiedFrustum::FloatItem& it = combination[64 * w + std::size_t(__builtin_ctzll(bits))];
-        const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
-        const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
-        const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
-        const Mk within = hn::And(not_held[it.member[0]], hn::And(not_held[it.member[1]], not_held[it.member[2]]));
-        out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
-        fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
-      }
+    if (any != every) {
+      const auto jv = hn::LoadU(du, J + i);
+      Mk not_held[6];
+      for (int j = 0; j < 6; ++j) not_held[j] = hn::RebindMask(d, hn::TestBit(jv, hn::Set(du, 1u << j)));
+      for (std::size_t w = 0; w < 2; ++w)
+        for (std::uint64_t bits = comb_in[2 * any + w] & ~comb_in[2 * every + w]; bits != 0; bits &= bits - 1) {
+          const ExactCertifiedFrustum::FloatItem& it = combination[64 * w + std::size_t(__builtin_ctzll(bits))];
+          const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
+          const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
+          const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
+          const Mk within = hn::And(not_held[it.member[0]], hn::And(not_held[it.member[1]], not_held[it.member[2]]));
+          out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
+          fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
+        }
+    }
     const std::uint64_t keep = lanes(std::min(N, n - i));
     outside[i / 64] |= (mask_bits(d, hn::And(out, hn::Le(x, safe))) & keep) << (i % 64);  // false for NaN
     positive[i / 64] |= (mask_bits(d, hn::Not(fail)) & keep) << (i % 64);

@@ -283,6 +283,28 @@ TEST(ExactCertifiedLanes, EveryTargetGivesTheSameFramesStagesAndVerdicts) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
+// The AABB array form on whole frames (1,024 boxes of one distribution around one camera, as
+// `cullproof verify` times it): what the certified batch leaves is gathered across the frame, and
+// the boxes its first float pass leaves are sorted by J and tested on their combinations a vector
+// at a time, boxes of different J side by side. Every verdict equals the oracle's truth.
+TEST(ExactCertifiedArrays, WholeFramesEqualTheOracle) {
+  if (!cpu_has_fma()) GTEST_SKIP() << "this CPU has no FMA";
+  for (gen::Distribution d : gen::generic_distributions())
+    for (std::uint64_t i = 0; i < 2; ++i) {
+      const gen::Frame fr = gen::draw_frame(d, 11, i, 1024, kAabbKind);
+      std::vector<Aabb> boxes;
+      for (const Volume& v : fr.volumes) boxes.push_back(std::get<Aabb>(v));
+      const ExactCertifiedFrustum f = prepare_exact_certified(fr.frustum);
+      std::vector<Visibility> got(boxes.size());
+      exact_certified_aabbs(f, boxes.data(), boxes.size(), got.data());
+      for (std::size_t k = 0; k < boxes.size(); ++k) {
+        const Visibility truth = oracle::truth(fr.frustum, Volume(boxes[k]));
+        ASSERT_EQ(to_string(got[k]), to_string(truth))
+            << gen::to_string(d) << ", seed 11, frame " << i << ", box " << k << " of gen::draw_frame";
+      }
+    }
+}
+
 std::string distribution_name(const ::testing::TestParamInfo<gen::Distribution>& p) {
   std::string s(gen::to_string(p.param));
   for (char& ch : s)
