@@ -29,8 +29,8 @@ glm::vec3 witness_seed(const ExactCertifiedFrustum& f) noexcept {
 // The boxes the certified batch (and, in a chunk where it leaves many, the witness pass) left
 // undecided, gathered across chunks so that the float passes run on whole vectors however few
 // are left, then settled (`flush`, once kChunk are gathered, and at the end): the first float
-// pass (planes, witness points), then, in place, the float pass on the combinations, and the
-// cascade for what both leave. verdicts[i] receives box i's verdict.
+// pass (planes, witness points), then the float pass on the combinations (the boxes it leaves
+// sorted by J), and the cascade for what both leave. verdicts[i] receives box i's verdict.
 class OpenBoxes {
  public:
   OpenBoxes(const ExactCertifiedFrustum& f, Visibility* verdicts) noexcept
