@@ -500,48 +500,66 @@ void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_p
   const hn::ScalableTag<float> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t N = hn::Lanes(d);
-  const PlaneVecs<decltype(d)> pb(d, box_planes, count), ps(d, sphere_planes, count);
+  // The plane constants stay in memory, broadcast where used (held as 72 vectors, they spilled).
+  // fl(n'.x + d) of plane p at the point x (plane3's order), with d its d_in or d_out.
+  auto value = [d](const CertPlane& p, float offset, const V (&pt)[3]) {
+    return plane3(hn::Set(d, p.nx), hn::Set(d, p.ny), hn::Set(d, p.nz), hn::Set(d, offset), pt[0], pt[1], pt[2]);
+  };
   const V tb = hn::Set(d, t_box), ts = hn::Set(d, t_sphere), msafe = hn::Set(d, m_safe), inf = hn::Set(d, HUGE_VALF);
   const V gv[3] = {hn::Set(d, g[0]), hn::Set(d, g[1]), hn::Set(d, g[2])};
   const V inward = hn::Set(d, 0x1p-9f), K = hn::Set(d, CertifiedMargins::kBallScale),
           E = hn::Set(d, CertifiedMargins::kBallAbsolute);
+  // H vectors side by side: the projections are a chain of dependent operations, and H
+  // independent chains keep the units busy (64 / (H N) whole steps per word).
+  constexpr int H = 4;
+  static_assert(64 % (H * (HWY_MAX_BYTES / sizeof(float))) == 0, "whole steps per 64-bit word");
   for (std::size_t w = w0; w < w1; ++w) {
     std::uint64_t bits = 0;
     if (todo[w] != 0)
-      for (std::size_t j = 0; j < 64; j += N) {
-        const std::size_t i = w * 64 + j;
-        const V c[3] = {hn::LoadU(d, x + i), hn::LoadU(d, y + i), hn::LoadU(d, z + i)};
-        const V rad = hn::LoadU(d, r + i);
-        const V mc = hn::Max(hn::Abs(c[0]), hn::Max(hn::Abs(c[1]), hn::Abs(c[2])));
-        const V m = hn::Add(mc, rad);
-        // The step towards g, and its magnitude.
-        V wc = inf, wq = inf;
-        for (int k = 0; k < count; ++k) {
-          wc = hn::Min(wc, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], c[0], c[1], c[2]));
-          wq = hn::Min(wq, hn::NegMulAdd(rad, ps.len[k], plane3(ps.nx[k], ps.ny[k], ps.nz[k], ps.dout[k], c[0], c[1], c[2])));
+      for (std::size_t j = 0; j < 64; j += H * N) {
+        V c[H][3], rad[H], mc[H], wc[H], wq[H], p[H][3];
+        for (int h = 0; h < H; ++h) {
+          const std::size_t i = w * 64 + j + std::size_t(h) * N;
+          c[h][0] = hn::LoadU(d, x + i), c[h][1] = hn::LoadU(d, y + i), c[h][2] = hn::LoadU(d, z + i);
+          rad[h] = hn::LoadU(d, r + i);
+          mc[h] = hn::Max(hn::Abs(c[h][0]), hn::Max(hn::Abs(c[h][1]), hn::Abs(c[h][2])));
+          wc[h] = inf, wq[h] = inf;
+          for (int k = 0; k < 3; ++k) p[h][k] = c[h][k];
         }
-        V p[3] = {c[0], c[1], c[2]};
+        for (int k = 0; k < count; ++k)
+          for (int h = 0; h < H; ++h) {
+            wc[h] = hn::Min(wc[h], value(box_planes[k], box_planes[k].d_in, c[h]));
+            wq[h] = hn::Min(wq[h], hn::NegMulAdd(rad[h], hn::Set(d, sphere_planes[k].norm),
+                                                 value(sphere_planes[k], sphere_planes[k].d_out, c[h])));
+          }
+        // The step towards g, and its magnitude.
         for (int round = 0; round < 2; ++round)
           for (int k = 0; k < count; ++k) {
-            const V s = hn::Min(plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], p[0], p[1], p[2]), hn::Zero(d));
-            const V f = hn::Mul(s, hn::Set(d, inv_norm2[k]));  // <= 0: moves p onto the plane
-            p[0] = hn::NegMulAdd(f, pb.nx[k], p[0]);
-            p[1] = hn::NegMulAdd(f, pb.ny[k], p[1]);
-            p[2] = hn::NegMulAdd(f, pb.nz[k], p[2]);
+            const CertPlane& pl = box_planes[k];
+            for (int h = 0; h < H; ++h) {
+              const V s = hn::Min(value(pl, pl.d_in, p[h]), hn::Zero(d));
+              const V f = hn::Mul(s, hn::Set(d, inv_norm2[k]));  // <= 0: moves p onto the plane
+              p[h][0] = hn::NegMulAdd(f, hn::Set(d, pl.nx), p[h][0]);
+              p[h][1] = hn::NegMulAdd(f, hn::Set(d, pl.ny), p[h][1]);
+              p[h][2] = hn::NegMulAdd(f, hn::Set(d, pl.nz), p[h][2]);
+            }
           }
-        for (int k = 0; k < 3; ++k) p[k] = hn::MulAdd(inward, hn::Sub(gv[k], p[k]), p[k]);
-        const V mp = hn::Max(hn::Abs(p[0]), hn::Max(hn::Abs(p[1]), hn::Abs(p[2])));
-        V wp = inf;
-        for (int k = 0; k < count; ++k) wp = hn::Min(wp, plane3(pb.nx[k], pb.ny[k], pb.nz[k], pb.din[k], p[0], p[1], p[2]));
-        V e[3];
-        for (int k = 0; k < 3; ++k) e[k] = hn::Sub(p[k], c[k]);
-        const V sq = hn::MulAdd(e[2], e[2], hn::MulAdd(e[1], e[1], hn::Mul(e[0], e[0])));
-        const auto in_ball = hn::Lt(hn::MulAdd(sq, K, E), hn::Mul(rad, rad));
-        const auto centre_in = hn::Ge(wc, hn::Mul(tb, mc));
-        const auto step_in = hn::And(in_ball, hn::And(hn::Ge(wp, hn::Mul(tb, mp)), hn::Le(mp, msafe)));
-        const auto proved = hn::And(hn::And(hn::Or(centre_in, step_in), hn::Lt(wq, hn::Neg(hn::Mul(ts, m)))),
-                                    hn::Le(m, msafe));  // false for NaN
-        bits |= mask_bits(d, proved) << j;
+        for (int h = 0; h < H; ++h) {
+          for (int k = 0; k < 3; ++k) p[h][k] = hn::MulAdd(inward, hn::Sub(gv[k], p[h][k]), p[h][k]);
+          const V mp = hn::Max(hn::Abs(p[h][0]), hn::Max(hn::Abs(p[h][1]), hn::Abs(p[h][2])));
+          V wp = inf;
+          for (int k = 0; k < count; ++k) wp = hn::Min(wp, value(box_planes[k], box_planes[k].d_in, p[h]));
+          V e[3];
+          for (int k = 0; k < 3; ++k) e[k] = hn::Sub(p[h][k], c[h][k]);
+          const V sq = hn::MulAdd(e[2], e[2], hn::MulAdd(e[1], e[1], hn::Mul(e[0], e[0])));
+          const V m = hn::Add(mc[h], rad[h]);
+          const auto in_ball = hn::Lt(hn::MulAdd(sq, K, E), hn::Mul(rad[h], rad[h]));
+          const auto centre_in = hn::Ge(wc[h], hn::Mul(tb, mc[h]));
+          const auto step_in = hn::And(in_ball, hn::And(hn::Ge(wp, hn::Mul(tb, mp)), hn::Le(mp, msafe)));
+          const auto proved = hn::And(hn::And(hn::Or(centre_in, step_in), hn::Lt(wq[h], hn::Neg(hn::Mul(ts, m)))),
+                                      hn::Le(m, msafe));  // false for NaN
+          bits |= mask_bits(d, proved) << (j + std::size_t(h) * N);
+        }
       }
     meets[w] = bits & todo[w];
   }
