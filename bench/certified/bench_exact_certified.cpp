@@ -270,8 +270,7 @@ void register_stages(const char* kind, Classify classify) {
 //                   the boxes left cross a plane rather than lie within the certified margin;
 //   witness         left by the witness pass (a point of the box proved inside every plane);
 //   float_planes    left by the float pass's planes (J, and a p-vertex shared by J proved inside);
-//   combinations    left by the anchors and the frame's combinations: what reaches the scalar
-//                   cascade.
+//   combinations    left by the frame's combinations: what reaches the scalar cascade.
 void register_passes() {
   for (const std::string& d : distributions()) {
     benchmark::RegisterBenchmark(("passes/aabb/" + d).c_str(), [d](benchmark::State& s) {

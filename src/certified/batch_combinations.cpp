@@ -217,16 +217,21 @@ void FloatOpenKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, 
     for (std::size_t k = 0; k < std::min(N, n - i); ++k) any |= J[i + k], every &= J[i + k];
     V box[2][3];
     const V x = load_box(d, lo, hi, i, box);
+    // Combination q (bit q % 64 of word q / 64) at each box's vertex its signs choose, and its
+    // threshold.
+    auto value = [&](std::size_t q, V& theta) {
+      const ExactCertifiedFrustum::FloatItem& it = combination[q];
+      theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
+      return p_vertex_value(it, hn::Set(d, it.cx), hn::Set(d, it.cy), hn::Set(d, it.cz), hn::Set(d, it.d), box);
+    };
     // The combinations within every box's J (most, the boxes sorted by J): fl(v + theta) < 0 iff
     // v < -theta and fl(v - theta) < 0 iff v < theta (a sum of floats rounds to zero only when
     // it is zero), so the smallest of each decides over all of them.
     V low_out = hn::Set(d, 1.0f), low_fail = low_out;
     for (std::size_t w = 0; w < 2; ++w)
       for (std::uint64_t bits = comb_in[2 * every + w]; bits != 0; bits &= bits - 1) {
-        const ExactCertifiedFrustum::FloatItem& it = combination[64 * w + std::size_t(__builtin_ctzll(bits))];
-        const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
-        const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
-        const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
+        V theta;
+        const V vp = value(64 * w + std::size_t(__builtin_ctzll(bits)), theta);
         low_out = hn::Min(low_out, hn::Add(vp, theta));
         low_fail = hn::Min(low_fail, hn::Sub(vp, theta));
       }
@@ -238,10 +243,10 @@ void FloatOpenKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, 
       for (int j = 0; j < 6; ++j) not_held[j] = hn::RebindMask(d, hn::TestBit(jv, hn::Set(du, 1u << j)));
       for (std::size_t w = 0; w < 2; ++w)
         for (std::uint64_t bits = comb_in[2 * any + w] & ~comb_in[2 * every + w]; bits != 0; bits &= bits - 1) {
-          const ExactCertifiedFrustum::FloatItem& it = combination[64 * w + std::size_t(__builtin_ctzll(bits))];
-          const V cx = hn::Set(d, it.cx), cy = hn::Set(d, it.cy), cz = hn::Set(d, it.cz), dd = hn::Set(d, it.d);
-          const V theta = hn::MulAdd(hn::Set(d, it.t), x, hn::Set(d, it.delta));
-          const V vp = p_vertex_value(it, cx, cy, cz, dd, box);
+          const std::size_t q = 64 * w + std::size_t(__builtin_ctzll(bits));
+          const ExactCertifiedFrustum::FloatItem& it = combination[q];
+          V theta;
+          const V vp = value(q, theta);
           const Mk within = hn::And(not_held[it.member[0]], hn::And(not_held[it.member[1]], not_held[it.member[2]]));
           out = hn::Or(out, hn::And(within, hn::Lt(vp, hn::Neg(theta))));
           fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
