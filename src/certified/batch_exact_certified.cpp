@@ -9,6 +9,7 @@
 
 #include "batch_adapter.hpp"
 #include "batch_combinations.hpp"
+#include "batch_spheres.hpp"
 #include "cullproof/certified_batch.hpp"
 
 #include <algorithm>
@@ -144,35 +145,58 @@ void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes,
 
 namespace {
 
-// The spheres the certified batch left undecided, gathered across chunks (the witness pass then
-// runs on whole vectors of them however few are left) and settled once kChunk are gathered, and
-// at the end: the witness pass, the cascade for what it leaves. verdicts[i]: sphere i's verdict.
+// The spheres the certified batch (and, in a chunk where it leaves many, the witness pass) left
+// undecided, gathered across chunks so that the passes run on whole vectors however few are left,
+// then settled (`flush`, once kChunk are gathered, and at the end): the witness pass on those not
+// yet tried, the double pass (batch_spheres.cpp) on what it leaves, and the cascade for what both
+// leave. verdicts[i] receives sphere i's verdict.
 class OpenSpheres {
  public:
   OpenSpheres(const ExactCertifiedFrustum& f, Visibility* verdicts) noexcept
       : f_(f), verdicts_(verdicts), seed_(witness_seed(f)) {}
 
-  // Sphere j of `part` (bit j of `open`) is sphere base + j of the array.
-  void add(const SphereSoa& part, std::size_t base, const std::uint64_t* open) {
+  const glm::vec3& seed() const noexcept { return seed_; }
+
+  // Sphere j of `part` (bit j of `open`) is sphere base + j of the array; `tried`: the witness
+  // pass failed on it already.
+  void add(const SphereSoa& part, std::size_t base, const std::uint64_t* open, bool tried) {
     const float* src[4] = {part.x, part.y, part.z, part.radius};
     for (std::size_t w = 0; w < bitset_words(part.count); ++w)
       for (std::uint64_t b = open[w]; b != 0; b &= b - 1) {
         const std::size_t j = w * 64 + std::size_t(__builtin_ctzll(b));
         index_[n_] = base + j;
         for (int k = 0; k < 4; ++k) ball_[k][n_] = src[k][j];
+        const std::uint64_t bit = std::uint64_t{1} << (n_ % 64);
+        tried_[n_ / 64] = tried ? tried_[n_ / 64] | bit : tried_[n_ / 64] & ~bit;
         if (++n_ == kChunk) flush();
       }
   }
 
   void flush() {
     if (n_ == 0) return;
-    std::uint64_t todo[kChunk / 64], meets[kChunk / 64];
-    for (std::size_t w = 0; w < bitset_words(n_); ++w) todo[w] = n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1;
-    certified_meets_spheres_bitset(f_.certified, SphereSoa{ball_[0], ball_[1], ball_[2], ball_[3], n_}, seed_, todo, meets);
-    for (std::size_t q = 0; q < n_; ++q)
-      verdicts_[index_[q]] = (meets[q / 64] >> (q % 64) & 1u)
-                                 ? Visibility::intersecting
-                                 : exact_certified_sphere(f_, Sphere{{ball_[0][q], ball_[1][q], ball_[2][q]}, ball_[3][q]});
+    for (std::size_t q = n_; q < (n_ + kBallReadable - 1) / kBallReadable * kBallReadable; ++q)  // whole vectors
+      for (int k = 0; k < 4; ++k) ball_[k][q] = 0.0f;
+    const SphereSoa balls{ball_[0], ball_[1], ball_[2], ball_[3], n_};
+    const std::size_t words = bitset_words(n_);
+    std::uint64_t todo[kChunk / 64], meets[kChunk / 64] = {};
+    bool untried = false;
+    for (std::size_t w = 0; w < words; ++w) {
+      const std::uint64_t all = n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1;
+      todo[w] = all & ~tried_[w];
+      untried = untried || todo[w] != 0;
+    }
+    if (untried) certified_meets_spheres_bitset(f_.certified, balls, seed_, todo, meets);
+    for (std::size_t w = 0; w < words; ++w)
+      todo[w] = (n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1) & ~meets[w];
+    exact_ball_pass(f_, balls, todo, pass_);
+    for (std::size_t q = 0; q < n_; ++q) {
+      const std::size_t w = q / 64;
+      const std::uint64_t bit = std::uint64_t{1} << (q % 64);
+      verdicts_[index_[q]] = (meets[w] & bit) || (pass_.meets[w] & bit) ? Visibility::intersecting
+                             : (pass_.outside[w] & bit)                 ? Visibility::outside
+                             : (pass_.inside[w] & bit)                  ? Visibility::inside
+                                                                        : exact_certified_sphere(f_, Sphere{{ball_[0][q], ball_[1][q], ball_[2][q]}, ball_[3][q]});
+    }
     n_ = 0;
   }
 
@@ -182,16 +206,29 @@ class OpenSpheres {
   glm::vec3 seed_;
   std::size_t n_ = 0;
   std::size_t index_[kChunk];
+  std::uint64_t tried_[kChunk / 64] = {};
+  BallPassResult pass_;
   alignas(64) float ball_[4][kChunk];
 };
 
+// One chunk (at most kChunk spheres, the array's spheres base ..): the certified batch's
+// verdicts; where it leaves more than three quarters of the chunk, the witness pass on them in
+// place (in place it tests every sphere of the chunk, which pays only where nearly all are left);
+// what remains into `open`.
 void sphere_chunk(const ExactCertifiedFrustum& f, const SphereSoa& part, std::size_t base, Visibility* verdicts,
                   OpenSpheres& open) {
-  std::uint64_t vis[kChunk / 64], ins[kChunk / 64], todo[kChunk / 64];
+  const std::size_t words = bitset_words(part.count);
+  std::uint64_t vis[kChunk / 64], ins[kChunk / 64], todo[kChunk / 64], meets[kChunk / 64];
   certified_cull_spheres_bitset(f.certified, part, vis, ins);
-  for (std::size_t w = 0; w < bitset_words(part.count); ++w) todo[w] = vis[w] & ~ins[w];
+  std::size_t left = 0;
+  for (std::size_t w = 0; w < words; ++w) todo[w] = vis[w] & ~ins[w], left += std::size_t(__builtin_popcountll(todo[w]));
+  const bool dense = 4 * left > 3 * part.count;
+  if (dense) {
+    certified_meets_spheres_bitset(f.certified, part, open.seed(), todo, meets);
+    for (std::size_t w = 0; w < words; ++w) todo[w] &= ~meets[w];
+  }
   for (std::size_t j = 0; j < part.count; ++j) verdicts[base + j] = detail::bit_verdict(vis, ins, j);  // open: at flush
-  open.add(part, base, todo);
+  open.add(part, base, todo, dense);
 }
 
 }  // namespace

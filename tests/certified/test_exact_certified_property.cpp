@@ -283,25 +283,43 @@ TEST(ExactCertifiedLanes, EveryTargetGivesTheSameFramesStagesAndVerdicts) {
   hwy::SetSupportedTargetsForTest(0);
 }
 
-// The AABB array form on whole frames (1,024 boxes of one distribution around one camera, as
-// `cullproof verify` times it): what the certified batch leaves is gathered across the frame, and
-// the boxes its first float pass leaves are sorted by J and tested on their combinations a vector
-// at a time, boxes of different J side by side. Every verdict equals the oracle's truth.
+// The array forms on whole frames (1,024 boxes or balls of one distribution around one camera,
+// as `cullproof verify` times them), on every SIMD target this machine runs: what the certified
+// batch leaves is gathered across the frame; the boxes the first float pass leaves are sorted by J
+// and tested on their combinations a vector at a time, boxes of different J side by side; the
+// balls the witness pass leaves are sorted by J and given the cascade's proofs a ball per lane.
+// Every verdict equals the oracle's truth.
 TEST(ExactCertifiedArrays, WholeFramesEqualTheOracle) {
   if (!cpu_has_fma()) GTEST_SKIP() << "this CPU has no FMA";
+  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
   for (gen::Distribution d : gen::generic_distributions())
     for (std::uint64_t i = 0; i < 2; ++i) {
-      const gen::Frame fr = gen::draw_frame(d, 11, i, 1024, kAabbKind);
+      const gen::Frame boxes_frame = gen::draw_frame(d, 11, i, 1024, kAabbKind);
+      const gen::Frame balls_frame = gen::draw_frame(d, 11, i, 1024, kSphereKind);
       std::vector<Aabb> boxes;
-      for (const Volume& v : fr.volumes) boxes.push_back(std::get<Aabb>(v));
-      const ExactCertifiedFrustum f = prepare_exact_certified(fr.frustum);
-      std::vector<Visibility> got(boxes.size());
-      exact_certified_aabbs(f, boxes.data(), boxes.size(), got.data());
-      for (std::size_t k = 0; k < boxes.size(); ++k) {
-        const Visibility truth = oracle::truth(fr.frustum, Volume(boxes[k]));
-        ASSERT_EQ(to_string(got[k]), to_string(truth))
-            << gen::to_string(d) << ", seed 11, frame " << i << ", box " << k << " of gen::draw_frame";
+      std::vector<Sphere> balls;
+      std::vector<Visibility> box_truth, ball_truth;
+      for (const Volume& v : boxes_frame.volumes)
+        boxes.push_back(std::get<Aabb>(v)), box_truth.push_back(oracle::truth(boxes_frame.frustum, v));
+      for (const Volume& v : balls_frame.volumes)
+        balls.push_back(std::get<Sphere>(v)), ball_truth.push_back(oracle::truth(balls_frame.frustum, v));
+      const ExactCertifiedFrustum fb = prepare_exact_certified(boxes_frame.frustum);
+      const ExactCertifiedFrustum fs = prepare_exact_certified(balls_frame.frustum);
+      for (const std::int64_t target : targets) {
+        hwy::SetSupportedTargetsForTest(target);
+        std::vector<Visibility> got(boxes.size());
+        exact_certified_aabbs(fb, boxes.data(), boxes.size(), got.data());
+        for (std::size_t k = 0; k < boxes.size(); ++k)
+          ASSERT_EQ(to_string(got[k]), to_string(box_truth[k])) << gen::to_string(d) << ", seed 11, frame " << i << ", box " << k
+                                                                << " of gen::draw_frame, " << hwy::TargetName(target);
+        got.assign(balls.size(), Visibility::outside);
+        exact_certified_spheres(fs, balls.data(), balls.size(), got.data());
+        for (std::size_t k = 0; k < balls.size(); ++k)
+          ASSERT_EQ(to_string(got[k]), to_string(ball_truth[k])) << gen::to_string(d) << ", seed 11, frame " << i << ", ball " << k
+                                                                 << " of gen::draw_frame, " << hwy::TargetName(target);
       }
+      hwy::SetSupportedTargetsForTest(0);
     }
 }
 
