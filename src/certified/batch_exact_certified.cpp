@@ -146,10 +146,11 @@ void exact_certified_aabbs(const ExactCertifiedFrustum& f, const AabbSoa& boxes,
 namespace {
 
 // The spheres the certified batch (and, in a chunk where it leaves many, the witness pass) left
-// undecided, gathered across chunks so that the passes run on whole vectors however few are left,
-// then settled (`flush`, once kChunk are gathered, and at the end): the witness pass on those not
-// yet tried, the double pass (batch_spheres.cpp) on what it leaves, and the cascade for what both
-// leave. verdicts[i] receives sphere i's verdict.
+// undecided, gathered across chunks so that the passes run on whole vectors however few are left:
+// once kChunk are gathered (and at the end) the witness pass on those not yet tried; what it
+// leaves is gathered again, and once kChunk of those are (and at the end) the double pass
+// (batch_spheres.cpp) runs on them, then the cascade on what it leaves. verdicts[i] receives
+// sphere i's verdict.
 class OpenSpheres {
  public:
   OpenSpheres(const ExactCertifiedFrustum& f, Visibility* verdicts) noexcept
@@ -164,51 +165,67 @@ class OpenSpheres {
     for (std::size_t w = 0; w < bitset_words(part.count); ++w)
       for (std::uint64_t b = open[w]; b != 0; b &= b - 1) {
         const std::size_t j = w * 64 + std::size_t(__builtin_ctzll(b));
+        if (tried) {
+          push(part.x[j], part.y[j], part.z[j], part.radius[j], base + j);
+          continue;
+        }
         index_[n_] = base + j;
         for (int k = 0; k < 4; ++k) ball_[k][n_] = src[k][j];
-        const std::uint64_t bit = std::uint64_t{1} << (n_ % 64);
-        tried_[n_ / 64] = tried ? tried_[n_ / 64] | bit : tried_[n_ / 64] & ~bit;
-        if (++n_ == kChunk) flush();
+        if (++n_ == kChunk) witness_pass();
       }
   }
 
   void flush() {
-    if (n_ == 0) return;
-    for (std::size_t q = n_; q < (n_ + kBallReadable - 1) / kBallReadable * kBallReadable; ++q)  // whole vectors
-      for (int k = 0; k < 4; ++k) ball_[k][q] = 0.0f;
-    const SphereSoa balls{ball_[0], ball_[1], ball_[2], ball_[3], n_};
-    const std::size_t words = bitset_words(n_);
-    std::uint64_t todo[kChunk / 64], meets[kChunk / 64] = {};
-    bool untried = false;
-    for (std::size_t w = 0; w < words; ++w) {
-      const std::uint64_t all = n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1;
-      todo[w] = all & ~tried_[w];
-      untried = untried || todo[w] != 0;
-    }
-    if (untried) certified_meets_spheres_bitset(f_.certified, balls, seed_, todo, meets);
-    for (std::size_t w = 0; w < words; ++w)
-      todo[w] = (n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1) & ~meets[w];
-    exact_ball_pass(f_, balls, todo, pass_);
-    for (std::size_t q = 0; q < n_; ++q) {
-      const std::size_t w = q / 64;
-      const std::uint64_t bit = std::uint64_t{1} << (q % 64);
-      verdicts_[index_[q]] = (meets[w] & bit) || (pass_.meets[w] & bit) ? Visibility::intersecting
-                             : (pass_.outside[w] & bit)                 ? Visibility::outside
-                             : (pass_.inside[w] & bit)                  ? Visibility::inside
-                                                                        : exact_certified_sphere(f_, Sphere{{ball_[0][q], ball_[1][q], ball_[2][q]}, ball_[3][q]});
-    }
-    n_ = 0;
+    witness_pass();
+    double_pass();
   }
 
  private:
+  // The witness pass on the gathered spheres; what it leaves to the double pass's list.
+  void witness_pass() {
+    if (n_ == 0) return;
+    for (std::size_t q = n_; q < (n_ + kBallReadable - 1) / kBallReadable * kBallReadable; ++q)  // whole vectors
+      for (int k = 0; k < 4; ++k) ball_[k][q] = 0.0f;
+    std::uint64_t todo[kChunk / 64], meets[kChunk / 64];
+    for (std::size_t w = 0; w < bitset_words(n_); ++w) todo[w] = n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1;
+    certified_meets_spheres_bitset(f_.certified, SphereSoa{ball_[0], ball_[1], ball_[2], ball_[3], n_}, seed_, todo, meets);
+    for (std::size_t q = 0; q < n_; ++q)
+      if (meets[q / 64] >> (q % 64) & 1u) verdicts_[index_[q]] = Visibility::intersecting;
+      else push(ball_[0][q], ball_[1][q], ball_[2][q], ball_[3][q], index_[q]);
+    n_ = 0;
+  }
+  void push(float x, float y, float z, float r, std::size_t index) {
+    left_index_[m_] = index;
+    left_[0][m_] = x, left_[1][m_] = y, left_[2][m_] = z, left_[3][m_] = r;
+    if (++m_ == kChunk) double_pass();
+  }
+  // The double pass on the spheres the witness pass left, the cascade on what it leaves.
+  void double_pass() {
+    if (m_ == 0) return;
+    for (std::size_t q = m_; q < (m_ + kBallReadable - 1) / kBallReadable * kBallReadable; ++q)  // whole vectors
+      for (int k = 0; k < 4; ++k) left_[k][q] = 0.0f;
+    std::uint64_t todo[kChunk / 64];
+    for (std::size_t w = 0; w < bitset_words(m_); ++w) todo[w] = m_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (m_ - w * 64)) - 1;
+    exact_ball_pass(f_, SphereSoa{left_[0], left_[1], left_[2], left_[3], m_}, todo, pass_);
+    for (std::size_t q = 0; q < m_; ++q) {
+      const std::size_t w = q / 64;
+      const std::uint64_t bit = std::uint64_t{1} << (q % 64);
+      verdicts_[left_index_[q]] = (pass_.meets[w] & bit)     ? Visibility::intersecting
+                                  : (pass_.outside[w] & bit) ? Visibility::outside
+                                  : (pass_.inside[w] & bit)  ? Visibility::inside
+                                                             : exact_certified_sphere(f_, Sphere{{left_[0][q], left_[1][q], left_[2][q]}, left_[3][q]});
+    }
+    m_ = 0;
+  }
+
   const ExactCertifiedFrustum& f_;
   Visibility* verdicts_;
   glm::vec3 seed_;
-  std::size_t n_ = 0;
-  std::size_t index_[kChunk];
-  std::uint64_t tried_[kChunk / 64] = {};
+  std::size_t n_ = 0, m_ = 0;
+  std::size_t index_[kChunk], left_index_[kChunk];
   BallPassResult pass_;
   alignas(64) float ball_[4][kChunk];
+  alignas(64) float left_[4][kChunk];
 };
 
 // One chunk (at most kChunk spheres, the array's spheres base ..): the certified batch's
