@@ -480,9 +480,10 @@ void CertAabbMeetKernel(const CertPlane* planes, int count, const Arrays& a, con
 // the ball is not inside: the sphere test's own bound, which certified.cpp derives for r |n|
 // taken with either sign), and a float point x of the ball is strictly inside every plane,
 // fl(n'.x + d_in) >= fl(t_box M_x) with the box planes' margins (the point test). The points
-// tried: the centre, and an estimate of the frustum's point nearest to it: the centre projected
-// onto each plane it lies outside of in turn, twice round, then moved 1/512 of the way towards
-// the seed g (inwards); any float point, since it is certified, not the estimate. x lies in the
+// tried: the seed g (proved inside every plane once per call), the centre, and an estimate of the
+// frustum's point nearest to it: the centre projected onto each plane it lies outside of in turn,
+// twice round, then moved 1/512 of the way towards g (inwards), for the balls the seed does not
+// prove; any float point, since it is certified, not the estimate. x lies in the
 // ball when
 //   fl(fl(s K) + E) < fl(r r),  s = fl(sum fl(x_i - c_i)^2),  K = 1 + 2^-20, E = 2^-140:
 // a difference of floats is within u of the exact one (exact if it underflows), so the true
@@ -513,6 +514,14 @@ void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_p
   // independent chains keep the units busy (64 / (H N) whole steps per word).
   constexpr int H = 4;
   static_assert(64 % (H * (HWY_MAX_BYTES / sizeof(float))) == 0, "whole steps per 64-bit word");
+  // Whether g is a point strictly inside every plane (the point test, as for x below).
+  bool seed_in = false;
+  {
+    V wg = inf;
+    for (int k = 0; k < count; ++k) wg = hn::Min(wg, value(box_planes[k], box_planes[k].d_in, gv));
+    const V mg = hn::Max(hn::Abs(gv[0]), hn::Max(hn::Abs(gv[1]), hn::Abs(gv[2])));
+    seed_in = hn::AllTrue(d, hn::And(hn::Ge(wg, hn::Mul(tb, mg)), hn::Le(mg, msafe)));
+  }
   for (std::size_t w = w0; w < w1; ++w) {
     std::uint64_t bits = 0;
     if (todo[w] != 0)
@@ -532,6 +541,24 @@ void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_p
             wq[h] = hn::Min(wq[h], hn::NegMulAdd(rad[h], hn::Set(d, sphere_planes[k].norm),
                                                  value(sphere_planes[k], sphere_planes[k].d_out, c[h])));
           }
+        // The seed itself, where it is certified inside every plane: enough for the balls that
+        // hold it (most of those that hold the frustum); the projections only for the others.
+        std::uint64_t by_seed = 0;
+        if (seed_in) {
+          for (int h = 0; h < H; ++h) {
+            V e[3];
+            for (int k = 0; k < 3; ++k) e[k] = hn::Sub(gv[k], c[h][k]);
+            const V sq = hn::MulAdd(e[2], e[2], hn::MulAdd(e[1], e[1], hn::Mul(e[0], e[0])));
+            const V m = hn::Add(mc[h], rad[h]);
+            const auto proved = hn::And(hn::And(hn::Lt(hn::MulAdd(sq, K, E), hn::Mul(rad[h], rad[h])),
+                                                hn::Lt(wq[h], hn::Neg(hn::Mul(ts, m)))),
+                                        hn::Le(m, msafe));
+            by_seed |= mask_bits(d, proved) << (j + std::size_t(h) * N);
+          }
+          bits |= by_seed;
+          const std::uint64_t step = (H * N >= 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (H * N)) - 1)) << j;
+          if ((todo[w] & step & ~by_seed) == 0) continue;
+        }
         // The step towards g, and its magnitude.
         for (int round = 0; round < 2; ++round)
           for (int k = 0; k < count; ++k) {
