@@ -12,9 +12,10 @@
 //    P_J, and the projection of the centre onto the planes of each subset S of J (|S| <= 3)
 //    pulled towards the interior point by half the room left in the ball; each proved inside
 //    every plane of J (kPoint) and within the ball (kDistance);
-//  - Farkas multipliers lambda = max(0, -mu) from each projection (mu = G_S^-1 s_S), divided by
-//    the largest (any lambda >= 0 is a certificate; the largest is then 1, in [1, 2) as the
-//    derivation scales it), proving the ball outside the half-space sum lambda_j (n'_j, d'_j).
+//  - Farkas multipliers lambda = max(0, -mu) from each projection (mu = G_S^-1 s_S), times the
+//    reciprocal of the largest (any finite lambda >= 0 is a certificate; the largest is then
+//    about 1, as the derivation's scaling makes it), proving the ball outside the half-space
+//    sum lambda_j (n'_j, d'_j).
 // The scalar cascade proves the nearest feasible projection only; here every subset's projection
 // is tried, which proves at least as much in lanes. The projections and multipliers only
 // propose: a wrong one costs a proof, never a verdict. A ball left unproved goes to the cascade.
@@ -273,9 +274,10 @@ void BallPassKernel(const F& f, const SphereSoa& balls, const std::uint64_t* tod
         const auto farkas = hn::And(hn::And(open_lanes, hn::Gt(dist2, r2)), hn::And(hn::Gt(largest, zero), hn::Lt(largest, inf)));
         if (!hn::AllFalse(d, farkas)) {
           V value = zero, weight = zero, na = zero, n0 = zero, n1 = zero, n2 = zero;
+          const V scale = hn::Div(one, largest);
           for (int q = 0; q < s.k; ++q) {
             const ExactCertifiedPlane& pl = f.plane[std::size_t(s.S[q])];
-            const V l = hn::Div(lambda[q], largest);
+            const V l = hn::Mul(lambda[q], scale);
             value = hn::Add(value, hn::Mul(l, sc[s.S[q]]));
             weight = hn::Add(weight, hn::Mul(l, wc[s.S[q]]));
             na = hn::Add(na, hn::Mul(l, hn::Set(d, pl.a)));
