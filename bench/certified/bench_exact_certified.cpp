@@ -18,14 +18,15 @@
 //                                            volumes decided by each stage) and cases; the timed
 //                                            loop classifies the volumes that reach the exact
 //                                            stage (ns_per_test: the cost of one such volume)
-//   passes/aabb/<distribution>               the AABB array form's passes on the generic frames:
-//                                            counters, fractions of all boxes, of what each
+//   passes/<aabb|sphere>/<distribution>      the array forms' passes on the generic frames:
+//                                            counters, fractions of all volumes, of what each
 //                                            leaves open (nothing is timed)
 //
 // --simd_target=NAME (a Highway target this machine runs: AVX3, AVX2, SSE4, ...) runs the
 // vector code of both the exact and the certified methods as on a machine whose best is NAME.
 #include "batch_adapter.hpp"       // AoS to SoA chunks (not installed)
-#include "batch_combinations.hpp"  // the array form's float passes (not installed)
+#include "batch_combinations.hpp"  // the AABB array form's float passes (not installed)
+#include "batch_spheres.hpp"       // the sphere array form's double pass (not installed)
 #include "cullproof/certified.hpp"
 #include "cullproof/certified_batch.hpp"
 #include "cullproof/exact_certified.hpp"
@@ -325,6 +326,44 @@ void register_passes() {
       const char* names[5] = {"certified", "exact_planes", "witness", "float_planes", "combinations"};
       for (int k = 0; k < 5; ++k) s.counters[names[k]] = total ? double(left[k]) / double(total) : 0.0;
       s.counters["boxes"] = double(total);
+    });
+  }
+  // The sphere array form's passes the same way, over the frames of batch/:
+  //   certified  left by the certified SIMD batch;
+  //   witness    left by the witness pass (a point of the ball proved inside every plane);
+  //   double     left by the double pass (batch_spheres.cpp): what reaches the scalar cascade.
+  for (const std::string& d : distributions()) {
+    benchmark::RegisterBenchmark(("passes/sphere/" + d).c_str(), [d](benchmark::State& s) {
+      const auto& fr = frames<Sphere>(d);
+      std::size_t left[3] = {}, total = 0;
+      constexpr std::size_t kChunk = detail::kSoaChunk;
+      alignas(64) float a[4][kChunk] = {};
+      for (std::size_t f = 0; f < fr.volumes.size(); ++f) {
+        const ExactCertifiedFrustum& ef = fr.exact[f];
+        const glm::vec3 seed(float(ef.interior[0]), float(ef.interior[1]), float(ef.interior[2]));
+        for (std::size_t i0 = 0; i0 < fr.volumes[f].size(); i0 += kChunk) {
+          const std::size_t m = std::min(kChunk, fr.volumes[f].size() - i0);
+          const SphereSoa chunk = detail::sphere_soa(fr.volumes[f].data() + i0, m, a);
+          total += m;
+          std::uint64_t vis[kChunk / 64] = {}, ins[kChunk / 64] = {}, todo[kChunk / 64] = {}, meets[kChunk / 64] = {};
+          certified_cull_spheres_bitset(ef.certified, chunk, vis, ins);
+          for (std::size_t w = 0; w < bitset_words(m); ++w) todo[w] = vis[w] & ~ins[w];
+          certified_meets_spheres_bitset(ef.certified, chunk, seed, todo, meets);
+          for (std::size_t w = 0; w < bitset_words(m); ++w) {
+            left[0] += std::size_t(__builtin_popcountll(todo[w]));
+            todo[w] &= ~meets[w];
+            left[1] += std::size_t(__builtin_popcountll(todo[w]));
+          }
+          BallPassResult r;
+          exact_ball_pass(ef, chunk, todo, r);
+          for (std::size_t w = 0; w < bitset_words(m); ++w)
+            left[2] += std::size_t(__builtin_popcountll(todo[w] & ~(r.outside[w] | r.inside[w] | r.meets[w])));
+        }
+      }
+      for (auto _ : s) benchmark::DoNotOptimize(total);
+      const char* names[3] = {"certified", "witness", "double"};
+      for (int k = 0; k < 3; ++k) s.counters[names[k]] = total ? double(left[k]) / double(total) : 0.0;
+      s.counters["balls"] = double(total);
     });
   }
 }

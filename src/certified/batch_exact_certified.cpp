@@ -2,8 +2,9 @@
 // only prove: the SIMD certified batch (src/certified/batch_certified.cpp: outside and inside with
 // float margins, Highway runtime dispatch); the witness pass on what it leaves (a float point of
 // the volume proved inside every plane, a point proved outside one); for AABBs, the float pass on
-// the planes and the frame's combinations (src/certified/batch_combinations.cpp); and the scalar
-// cascade (src/certified/exact_certified.cpp) for every volume still open. Every stage is
+// the planes and the frame's combinations (src/certified/batch_combinations.cpp); for spheres, the
+// double pass, the cascade's own proofs a ball per lane (src/certified/batch_spheres.cpp); and the
+// scalar cascade (src/certified/exact_certified.cpp) for every volume still open. Every stage is
 // certified, so the verdicts are the exact truth (docs/exact-culling.md, "Array forms").
 #include "cullproof/exact_certified_batch.hpp"
 

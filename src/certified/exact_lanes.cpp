@@ -37,7 +37,10 @@ void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
   const auto t = hn::Set(d, T), neg_t = hn::Set(d, -T);
   unsigned J = 0, crossing = 0, p_in = 0, pos[3] = {0, 0, 0}, neg[3] = {0, 0, 0};
   const auto zero = hn::Zero(d);
-  for (int k = 0; k < f.count; k += n) {
+  auto outside = hn::Lt(zero, zero);
+  // All eight lanes of f.lanes (zero past count), a fixed number of whole vectors: the compiler
+  // unrolls them, and the vectors' chains of dependent operations overlap (one exit test at the end).
+  for (int k = 0; k < 8; k += n) {
     const auto nx = plane_lanes(d, f, F::kLaneNx, k), ny = plane_lanes(d, f, F::kLaneNy, k),
                nz = plane_lanes(d, f, F::kLaneNz, k);
     const auto s = hn::Add(hn::Add(hn::Mul(nx, hn::Set(d, c[0])), hn::Mul(ny, hn::Set(d, c[1]))),
@@ -51,11 +54,8 @@ void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
     hn::StoreU(hn::Add(s, plane_lanes(d, f, F::kLaneD, k)), d, q.a[0] + k);
     const auto rad = hn::Add(hn::Add(hn::Abs(a[0]), hn::Abs(a[1])), hn::Abs(a[2]));
     const auto so = hn::Add(s, plane_lanes(d, f, F::kLaneDOutBox, k)), si = hn::Add(s, plane_lanes(d, f, F::kLaneDInBox, k));
-    const auto valid = hn::FirstN(d, std::size_t(f.count - k));
-    if (!hn::AllFalse(d, hn::And(valid, hn::Lt(hn::Add(so, rad), neg_t)))) {
-      q.outside = true;
-      return;
-    }
+    const auto valid = hn::FirstN(d, std::size_t(std::max(0, f.count - k)));
+    outside = hn::Or(outside, hn::And(valid, hn::Lt(hn::Add(so, rad), neg_t)));
     const auto held = hn::Ge(hn::Sub(si, rad), t);  // false for a NaN, as in the scalar test
     const unsigned j = unsigned(mask_bits(d, hn::AndNot(held, valid)));
     J |= j << k;
@@ -66,7 +66,8 @@ void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
       neg[i] |= (unsigned(mask_bits(d, hn::Lt(a[i], zero))) & j);
     }
   }
-  q.outside = false;
+  q.outside = !hn::AllFalse(d, outside);
+  if (q.outside) return;
   q.J = J;
   q.crossing = crossing;
   q.p_in = p_in & J;

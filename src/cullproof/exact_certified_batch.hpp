@@ -1,7 +1,8 @@
 // Certified-exact culling of arrays (library cullproof::simd): the SIMD certified batch
 // (cullproof/certified_batch.hpp) decides what lies clearly outside or clearly inside, with its
 // float margins, several volumes per instruction; SIMD passes prove what they can of the rest
-// (witness points; for boxes, the planes and the frame's combinations in float); every other
+// (witness points; for boxes, the planes and the frame's combinations in float; for balls, the
+// cascade's own stage 1 and stage 2 proofs in double, a ball per lane); every other
 // volume goes through the scalar cascade of cullproof/exact_certified.hpp. The verdicts are those
 // of the scalar functions: the exact truth.
 #pragma once
