@@ -5,6 +5,7 @@
 // forms as well. Built twice: as is, and (test_exact_certified_fma) with the float stages compiled
 // with -mfma -ffp-contract=fast, so that the bounds are checked with contraction too.
 #include "batch_combinations.hpp"
+#include "batch_spheres.hpp"
 #include "cullproof/arbitrary.hpp"
 #include "cullproof/certified_batch.hpp"
 #include "cullproof/exact_certified.hpp"
@@ -91,6 +92,20 @@ bool simd_witness(const ExactCertifiedFrustum& f, const Sphere& s, const glm::ve
   return meets != 0;
 }
 
+// The sphere array form's double pass on one ball (the only lane): whether it decides it, and
+// the verdict.
+bool double_pass(const ExactCertifiedFrustum& f, const Sphere& s, Visibility& v) {
+  alignas(64) float a[4][kBallReadable] = {};
+  a[0][0] = s.center.x, a[1][0] = s.center.y, a[2][0] = s.center.z, a[3][0] = s.radius;
+  const std::uint64_t todo = 1;
+  BallPassResult r;
+  exact_ball_pass(f, SphereSoa{a[0], a[1], a[2], a[3], 1}, &todo, r);
+  if (r.outside[0] & 1u) return v = Visibility::outside, true;
+  if (r.inside[0] & 1u) return v = Visibility::inside, true;
+  if (r.meets[0] & 1u) return v = Visibility::intersecting, true;
+  return false;
+}
+
 Visibility batch(const char* name, const CaseFrustum& f, const Sphere& s) {
   Answer a;
   find_builtin(name)->prepare(f)->classify_batch(&s, 1, &a);
@@ -141,6 +156,11 @@ TEST_P(ExactCertifiedOnEveryFamily, EqualsTheOracle) {
       for (const glm::vec3& seed : seeds)
         if (is_valid(Point{seed}) && simd_witness(f, *s, seed) && truth != Visibility::intersecting)
           RC_FAIL("the SIMD witness pass proved a sphere intersecting whose truth is " + std::string(to_string(truth)));
+      // The double pass on the ball alone (not only on what the witness pass leaves).
+      Visibility v;
+      if (double_pass(f, *s, v) && v != truth)
+        RC_FAIL("the double pass proved a sphere " + std::string(to_string(v)) + " whose truth is " +
+                std::string(to_string(truth)));
     } else {
       const Point& p = std::get<Point>(g.volume);
       expect("aabb-exact-certified (the point as a box)", exact_certified_aabb(f, Aabb{p, p}));
@@ -223,6 +243,10 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
       const Visibility w = batch("sphere-batch-exact-certified", g.frustum, *sp);
       if (w != truth)
         RC_FAIL("sphere-batch-exact-certified says " + std::string(to_string(w)) + ", the truth is " +
+                std::string(to_string(truth)) + " (k = " + std::to_string(k) + ")");
+      Visibility dp;
+      if (double_pass(f, *sp, dp) && dp != truth)
+        RC_FAIL("the double pass proved a sphere " + std::string(to_string(dp)) + ", the truth is " +
                 std::string(to_string(truth)) + " (k = " + std::to_string(k) + ")");
       v = exact_certified_sphere(f, *sp), method = "sphere-exact-certified";
     }
