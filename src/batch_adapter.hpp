@@ -19,6 +19,14 @@ inline Visibility bit_verdict(const std::uint64_t* visible, const std::uint64_t*
   return Visibility(v + i);
 }
 
+/// The k lowest bits set (all 64 for k >= 64): a bitset word's first k items.
+constexpr std::uint64_t low_bits(std::size_t k) noexcept { return k >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << k) - 1; }
+
+/// Bits [0, n) of the bitset `bits` set, the rest of its words clear.
+inline void first_bits(std::size_t n, std::uint64_t* bits) noexcept {
+  for (std::size_t w = 0; w < bitset_words(n); ++w) bits[w] = low_bits(n - w * 64);
+}
+
 /// boxes[0..m) transposed into `a` (m <= kSoaChunk): the SoA view of the chunk.
 inline AabbSoa aabb_soa(const Aabb* boxes, std::size_t m, float (&a)[6][kSoaChunk]) noexcept {
   for (std::size_t j = 0; j < m; ++j) {

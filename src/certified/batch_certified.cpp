@@ -30,6 +30,7 @@
 
 #include "batch_util-inl.h"
 
+#include "batch_adapter.hpp"
 #include "cullproof/certified_batch.hpp"
 
 #include <algorithm>
@@ -556,7 +557,7 @@ void CertSphereMeetKernel(const CertPlane* box_planes, const CertPlane* sphere_p
             by_seed |= mask_bits(d, proved) << (j + std::size_t(h) * N);
           }
           bits |= by_seed;
-          const std::uint64_t step = (H * N >= 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (H * N)) - 1)) << j;
+          const std::uint64_t step = detail::low_bits(H * N) << j;
           if ((todo[w] & step & ~by_seed) == 0) continue;
         }
         // The step towards g, and its magnitude.

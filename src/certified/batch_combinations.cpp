@@ -10,6 +10,7 @@
 
 #include "batch_util-inl.h"
 
+#include "batch_adapter.hpp"
 #include "batch_combinations.hpp"
 
 #include <algorithm>
@@ -20,9 +21,6 @@ HWY_BEFORE_NAMESPACE();
 namespace cullproof {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-// The low k bits (k <= 64).
-HWY_INLINE std::uint64_t lanes(std::size_t k) { return k >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << k) - 1; }
 
 // The magnitude X of the boxes at i (the largest |coordinate|; a NaN sorts high) and their
 // corners: box[0] the minima, box[1] the maxima.
@@ -172,7 +170,7 @@ HWY_INLINE void FloatFirstImpl(const ExactCertifiedFrustum::FloatItem* items, in
         proved_meet = hn::Or(proved_meet, hn::And(witness, hn::Ge(hn::Max(low_p, low_c), zero)));
       }
     }
-    const std::uint64_t keep = lanes(std::min(N, n - i));
+    const std::uint64_t keep = detail::low_bits(std::min(N, n - i));
     const std::uint64_t ob = mask_bits(d, proved_out) & keep, ib = mask_bits(d, proved_in) & keep,
                         mb = mask_bits(d, proved_meet) & keep, open_bits = keep & ~(ob | ib | mb);
     hn::StoreU(jbits, du, J + i);
@@ -252,7 +250,7 @@ void FloatOpenKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, 
           fail = hn::Or(fail, hn::And(within, hn::Lt(vp, theta)));
         }
     }
-    const std::uint64_t keep = lanes(std::min(N, n - i));
+    const std::uint64_t keep = detail::low_bits(std::min(N, n - i));
     outside[i / 64] |= (mask_bits(d, hn::And(out, hn::Le(x, safe))) & keep) << (i % 64);  // false for NaN
     positive[i / 64] |= (mask_bits(d, hn::Not(fail)) & keep) << (i % 64);
   }

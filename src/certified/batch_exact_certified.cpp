@@ -28,6 +28,14 @@ glm::vec3 witness_seed(const ExactCertifiedFrustum& f) noexcept {
   return f.has_interior ? glm::vec3(float(f.interior[0]), float(f.interior[1]), float(f.interior[2])) : glm::vec3(0.0f);
 }
 
+// Items [n, n rounded up to `readable`) of every row of `a` set to zero: the passes read their
+// arrays in whole vectors, and what lies past n decides nothing.
+template <std::size_t R>
+void zero_tail(float (&a)[R][kChunk], std::size_t n, std::size_t readable) noexcept {
+  for (std::size_t q = n; q < (n + readable - 1) / readable * readable; ++q)
+    for (std::size_t k = 0; k < R; ++k) a[k][q] = 0.0f;
+}
+
 // The boxes the certified batch (and, in a chunk where it leaves many, the witness pass) left
 // undecided, gathered across chunks so that the float passes run on whole vectors however few
 // are left, then settled (`flush`, once kChunk are gathered, and at the end): the first float
@@ -64,8 +72,7 @@ class OpenBoxes {
       n_ = 0;
       return;
     }
-    for (std::size_t q = n_; q < (n_ + kReadable - 1) / kReadable * kReadable; ++q)  // whole vectors
-      for (int k = 0; k < 6; ++k) box_[k][q] = 0.0f;
+    zero_tail(box_, n_, kReadable);
     exact_float_first(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, seed_, first_pass_, tried_);
     const FloatFirstResult& r = first_pass_;
     const std::size_t words = bitset_words(n_);
@@ -88,7 +95,7 @@ class OpenBoxes {
   void mark_tried(std::size_t from, bool tried) {
     for (std::size_t q = from; q < n_;) {
       const std::size_t w = q / 64, end = std::min(n_, (w + 1) * 64);
-      const std::uint64_t bits = (end - q == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (end - q)) - 1)) << (q % 64);
+      const std::uint64_t bits = detail::low_bits(end - q) << (q % 64);
       tried_[w] = tried ? tried_[w] | bits : tried_[w] & ~bits;
       q = end;
     }
@@ -185,10 +192,9 @@ class OpenSpheres {
   // The witness pass on the gathered spheres; what it leaves to the double pass's list.
   void witness_pass() {
     if (n_ == 0) return;
-    for (std::size_t q = n_; q < (n_ + kBallReadable - 1) / kBallReadable * kBallReadable; ++q)  // whole vectors
-      for (int k = 0; k < 4; ++k) ball_[k][q] = 0.0f;
+    zero_tail(ball_, n_, kBallReadable);
     std::uint64_t todo[kChunk / 64], meets[kChunk / 64];
-    for (std::size_t w = 0; w < bitset_words(n_); ++w) todo[w] = n_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n_ - w * 64)) - 1;
+    detail::first_bits(n_, todo);
     certified_meets_spheres_bitset(f_.certified, SphereSoa{ball_[0], ball_[1], ball_[2], ball_[3], n_}, seed_, todo, meets);
     for (std::size_t q = 0; q < n_; ++q)
       if (meets[q / 64] >> (q % 64) & 1u) verdicts_[index_[q]] = Visibility::intersecting;
@@ -203,10 +209,9 @@ class OpenSpheres {
   // The double pass on the spheres the witness pass left, the cascade on what it leaves.
   void double_pass() {
     if (m_ == 0) return;
-    for (std::size_t q = m_; q < (m_ + kBallReadable - 1) / kBallReadable * kBallReadable; ++q)  // whole vectors
-      for (int k = 0; k < 4; ++k) left_[k][q] = 0.0f;
+    zero_tail(left_, m_, kBallReadable);
     std::uint64_t todo[kChunk / 64];
-    for (std::size_t w = 0; w < bitset_words(m_); ++w) todo[w] = m_ - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (m_ - w * 64)) - 1;
+    detail::first_bits(m_, todo);
     exact_ball_pass(f_, SphereSoa{left_[0], left_[1], left_[2], left_[3], m_}, todo, pass_);
     for (std::size_t q = 0; q < m_; ++q) {
       const std::size_t w = q / 64;

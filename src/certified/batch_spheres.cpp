@@ -26,6 +26,7 @@
 
 #include "batch_util-inl.h"
 
+#include "batch_adapter.hpp"
 #include "batch_spheres.hpp"
 
 #include <algorithm>
@@ -107,8 +108,7 @@ void BallPassKernel(const F& f, const SphereSoa& balls, const std::uint64_t* tod
   alignas(64) double bx[kCap + 8], by[kCap + 8], bz[kCap + 8], br[kCap + 8];
   std::size_t nt = 0;
   for (std::size_t w = 0; w < words; ++w)
-    for (std::uint64_t b = todo[w] & (n - w * 64 >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << (n - w * 64)) - 1);
-         b != 0; b &= b - 1) {
+    for (std::uint64_t b = todo[w] & detail::low_bits(n - w * 64); b != 0; b &= b - 1) {
       const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
       idx[nt] = std::uint32_t(q);
       bx[nt] = balls.x[q], by[nt] = balls.y[q], bz[nt] = balls.z[q], br[nt] = balls.radius[q];
@@ -119,7 +119,7 @@ void BallPassKernel(const F& f, const SphereSoa& balls, const std::uint64_t* tod
 
   // Stage 1: J, crossing, reach and centre-in bits per ball, and outside.
   alignas(64) std::uint64_t Jb[kCap + 8], crossb[kCap + 8], reachb[kCap + 8], inb[kCap + 8];
-  std::uint64_t out_bits[kCap / 64 + 1] = {};
+  std::uint64_t out_bits[kCap / 64] = {};
   for (std::size_t i = 0; i < nt; i += N) {
     const V cx = hn::Load(d, bx + i), cy = hn::Load(d, by + i), cz = hn::Load(d, bz + i), r = hn::Load(d, br + i);
     const V mc = hn::Max(hn::Abs(cx), hn::Max(hn::Abs(cy), hn::Abs(cz)));
@@ -184,7 +184,7 @@ void BallPassKernel(const F& f, const SphereSoa& balls, const std::uint64_t* tod
 
   const V kappa_point = hn::Set(d, M::kPoint * M::u), kappa_distance = hn::Set(d, 1.0 + M::kDistance * M::u);
   const V kappa_centre = hn::Set(d, M::kFarkasCentre * M::u), kappa_normal = hn::Set(d, M::kFarkasNormal * M::u);
-  const V underflow = hn::Set(d, 0x1p-1000), len_scale = hn::Set(d, 1.0 + 4.0 * M::u), value_scale = hn::Set(d, 1.0 - 4.0 * M::u);
+  const V underflow = hn::Set(d, M::kFarkasUnderflow), len_scale = hn::Set(d, 1.0 + 4.0 * M::u), value_scale = hn::Set(d, 1.0 - 4.0 * M::u);
   const V one = hn::Set(d, 1.0), half = hn::Set(d, 0.5), inf = hn::Set(d, std::numeric_limits<double>::infinity());
   const V gx = hn::Set(d, f.interior[0]), gy = hn::Set(d, f.interior[1]), gz = hn::Set(d, f.interior[2]);
 

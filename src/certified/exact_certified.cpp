@@ -211,7 +211,7 @@ constexpr double kU = M::u;
 inline double up(double x) noexcept { return x * (1.0 + M::kSlack); }
 
 // Covers the underflows of products of multipliers and coefficients (see "Multipliers").
-constexpr double kUnderflow = 0x1p-1000;
+constexpr double kUnderflow = M::kFarkasUnderflow;
 
 // The multipliers scaled by a power of two (exact) so that the largest lies in [1, 2); false
 // when none is positive and finite.

@@ -76,6 +76,9 @@ struct ExactMargins {
   /// products each is the difference of, for three planes; u lambda_q for two).
   static constexpr double kCombination = 16.0;
   static constexpr double kMultiplier = 5.0;
+  /// Added to each Farkas bound: covers the underflows of products of multipliers and
+  /// coefficients (exact_certified.cpp, "Multipliers").
+  static constexpr double kFarkasUnderflow = 0x1p-1000;
   /// Relative slack added to every computed bound before it is compared (covers the few
   /// roundings of the bound itself: each is at most u, and there are fewer than 2^10).
   static constexpr double kSlack = 0x1p-40;
