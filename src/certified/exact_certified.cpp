@@ -1195,7 +1195,7 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
   if (q.outside) return Visibility::outside;
   if (q.J == 0) return Visibility::inside;
   // Rows of J agreeing in sign on every axis share their p-vertex (see the AABB).
-  if (q.crossing && q.p_in == q.J && q.shared) return Visibility::intersecting;
+  if (q.shared) return Visibility::intersecting;
   BoxRows r;
   obb_rows(f, q, X, r);
   // Five or six planes left (a box about as large as the frustum): the point of the box nearest

@@ -35,11 +35,10 @@ void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
   const hn::CappedTag<double, 8> d;
   const int n = int(hn::Lanes(d));
   const auto t = hn::Set(d, T), neg_t = hn::Set(d, -T);
-  unsigned J = 0, crossing = 0, p_in = 0, pos[3] = {0, 0, 0}, neg[3] = {0, 0, 0};
-  const auto zero = hn::Zero(d);
-  auto outside = hn::Lt(zero, zero);
-  // All eight lanes of f.lanes (zero past count), a fixed number of whole vectors: the compiler
-  // unrolls them, and the vectors' chains of dependent operations overlap (one exit test at the end).
+  unsigned outside = 0, held = 0, crossing = 0, p_in = 0;
+  // All eight lanes of f.lanes, a fixed number of whole vectors (the compiler unrolls them and
+  // their chains of dependent operations overlap); the lanes past count are masked off once, in
+  // the bits, at the end.
   for (int k = 0; k < 8; k += n) {
     const auto nx = plane_lanes(d, f, F::kLaneNx, k), ny = plane_lanes(d, f, F::kLaneNy, k),
                nz = plane_lanes(d, f, F::kLaneNz, k);
@@ -54,24 +53,31 @@ void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
     hn::StoreU(hn::Add(s, plane_lanes(d, f, F::kLaneD, k)), d, q.a[0] + k);
     const auto rad = hn::Add(hn::Add(hn::Abs(a[0]), hn::Abs(a[1])), hn::Abs(a[2]));
     const auto so = hn::Add(s, plane_lanes(d, f, F::kLaneDOutBox, k)), si = hn::Add(s, plane_lanes(d, f, F::kLaneDInBox, k));
-    const auto valid = hn::FirstN(d, std::size_t(std::max(0, f.count - k)));
-    outside = hn::Or(outside, hn::And(valid, hn::Lt(hn::Add(so, rad), neg_t)));
-    const auto held = hn::Ge(hn::Sub(si, rad), t);  // false for a NaN, as in the scalar test
-    const unsigned j = unsigned(mask_bits(d, hn::AndNot(held, valid)));
-    J |= j << k;
-    crossing |= unsigned(mask_bits(d, hn::And(valid, hn::Lt(hn::Sub(so, rad), neg_t)))) << k;
-    p_in |= unsigned(mask_bits(d, hn::And(valid, hn::Ge(hn::Add(si, rad), t)))) << k;
-    for (int i = 0; i < 3; ++i) {
-      pos[i] |= (unsigned(mask_bits(d, hn::Gt(a[i], zero))) & j);
-      neg[i] |= (unsigned(mask_bits(d, hn::Lt(a[i], zero))) & j);
-    }
+    outside |= unsigned(mask_bits(d, hn::Lt(hn::Add(so, rad), neg_t))) << k;
+    held |= unsigned(mask_bits(d, hn::Ge(hn::Sub(si, rad), t))) << k;  // not for a NaN, as in the scalar test
+    crossing |= unsigned(mask_bits(d, hn::Lt(hn::Sub(so, rad), neg_t))) << k;
+    p_in |= unsigned(mask_bits(d, hn::Ge(hn::Add(si, rad), t))) << k;
   }
-  q.outside = !hn::AllFalse(d, outside);
+  const unsigned valid = (1u << f.count) - 1u;  // count <= 8
+  q.outside = (outside & valid) != 0;
   if (q.outside) return;
-  q.J = J;
-  q.crossing = crossing;
-  q.p_in = p_in & J;
-  q.shared = (pos[0] == 0 || neg[0] == 0) && (pos[1] == 0 || neg[1] == 0) && (pos[2] == 0 || neg[2] == 0);
+  q.J = valid & ~held;
+  q.crossing = crossing & valid;
+  q.p_in = p_in & q.J;
+  q.shared = false;
+  if (q.crossing == 0 || q.p_in != q.J) return;
+  // The signs of the rows of J, read back from q.a (only the boxes this can decide pay for it).
+  unsigned pos[3] = {0, 0, 0}, neg[3] = {0, 0, 0};
+  const auto zero = hn::Zero(d);
+  for (int k = 0; k < 8; k += n)
+    for (int i = 0; i < 3; ++i) {
+      const auto a = hn::LoadU(d, q.a[i + 1] + k);
+      pos[i] |= unsigned(mask_bits(d, hn::Gt(a, zero))) << k;
+      neg[i] |= unsigned(mask_bits(d, hn::Lt(a, zero))) << k;
+    }
+  const unsigned J = q.J;
+  q.shared = ((pos[0] & J) == 0 || (neg[0] & J) == 0) && ((pos[1] & J) == 0 || (neg[1] & J) == 0) &&
+             ((pos[2] & J) == 0 || (neg[2] & J) == 0);
 }
 
 // Stage 1 of a sphere (exact_certified.cpp, "Spheres"), the scalar loop's operations per lane:

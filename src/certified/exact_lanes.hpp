@@ -15,7 +15,7 @@ struct ObbPlaneStage {
   unsigned crossing = 0;  ///< bit j: plane j proved to cut it
   unsigned p_in = 0;      ///< bit j of J: the box's p-vertex proved inside plane j
   bool outside = false;   ///< some plane proved to exclude it (the rest is then unset)
-  bool shared = false;    ///< the rows of J agree in sign on every axis (one p-vertex)
+  bool shared = false;    ///< crossing != 0, p_in == J and the rows of J agree in sign on every axis
 };
 void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
                      ObbPlaneStage& out);
