@@ -1196,12 +1196,11 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
   if (q.J == 0) return Visibility::inside;
   // Rows of J agreeing in sign on every axis share their p-vertex (see the AABB).
   if (q.shared) return Visibility::intersecting;
-  BoxRows r;
-  obb_rows(f, q, X, r);
   // Five or six planes left (a box about as large as the frustum): the point of the box nearest
   // the frame's interior point, then those nearest the other anchors, are stage 2's witnesses for
   // most such boxes; tried before box_rest rechecks and filters the rows (a row it drops is at
-  // least eps_j on the whole cube, so the answer is the same).
+  // least eps_j on the whole cube, so the answer is the same). The first on the rows in lanes,
+  // before they are copied out.
   unsigned fifth = q.J;  // J with its four lowest planes removed: not empty with five or more
   for (int k = 0; k < 4; ++k) fifth &= fifth - 1;
   const bool large = q.crossing && f.has_interior && fifth != 0;
@@ -1209,8 +1208,11 @@ Visibility exact_certified_obb(const ExactCertifiedFrustum& f, const Obb& b, Exa
     set_stage(stage, ExactStage::axes);
     double t[3];
     obb_coordinates(b, f.interior, t);
-    if (witness(r, t) || exact_lanes::obb_anchor_witness(f, b, r.m, r.a, r.eps)) return Visibility::intersecting;
+    if ((exact_lanes::obb_rows_short(f, q, t, X, kEpsRow) & q.J) == 0) return Visibility::intersecting;
   }
+  BoxRows r;
+  obb_rows(f, q, X, r);
+  if (large && exact_lanes::obb_anchor_witness(f, b, r.m, r.a, r.eps)) return Visibility::intersecting;
   return box_rest(f, BoxIn{nullptr, &b, large}, r, q.crossing, stage);
 }
 

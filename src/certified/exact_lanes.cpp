@@ -80,6 +80,22 @@ void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
              ((pos[2] & J) == 0 || (neg[2] & J) == 0);
 }
 
+// The witness test on q's rows, one per lane, as row_at and row_bounds compute them.
+unsigned ObbRowsShortKernel(const F& f, const exact_lanes::ObbPlaneStage& q, const double* t, double X, double eps_row) {
+  const hn::CappedTag<double, 8> d;
+  const int n = int(hn::Lanes(d));
+  const auto t0 = hn::Set(d, t[0]), t1 = hn::Set(d, t[1]), t2 = hn::Set(d, t[2]), x = hn::Set(d, X), k = hn::Set(d, eps_row);
+  unsigned bits = 0;
+  for (int j = 0; j < 8; j += n) {
+    const auto v = hn::Add(hn::Add(hn::Add(hn::LoadU(d, q.a[0] + j), hn::Mul(hn::LoadU(d, q.a[1] + j), t0)),
+                                   hn::Mul(hn::LoadU(d, q.a[2] + j), t1)),
+                           hn::Mul(hn::LoadU(d, q.a[3] + j), t2));
+    const auto eps = hn::Mul(hn::Add(hn::Mul(plane_lanes(d, f, F::kLaneA, j), x), plane_lanes(d, f, F::kLaneAd, j)), k);
+    bits |= unsigned(mask_bits(d, hn::Not(hn::Ge(v, eps)))) << j;
+  }
+  return bits;
+}
+
 // Stage 1 of a sphere (exact_certified.cpp, "Spheres"), the scalar loop's operations per lane:
 // v = (n'_x c_x + n'_y c_y) + n'_z c_z, rho = r norm', (v + d_out) + rho against -T and so on;
 // the bound wc = up(A' mc + |d'|) with up(x) = x (1 + kSlack).
@@ -259,6 +275,7 @@ namespace cullproof::exact_lanes {
 
 HWY_EXPORT(ObbPlaneKernel);
 HWY_EXPORT(ObbAnchorKernel);
+HWY_EXPORT(ObbRowsShortKernel);
 HWY_EXPORT(SpherePlaneKernel);
 HWY_EXPORT(AnchorInBallKernel);
 HWY_EXPORT(MaxMinLpKernel);
@@ -266,6 +283,10 @@ HWY_EXPORT(MaxMinLpKernel);
 void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
                      ObbPlaneStage& out) {
   HWY_DYNAMIC_DISPATCH(ObbPlaneKernel)(f, c, e, T, out);
+}
+
+unsigned obb_rows_short(const ExactCertifiedFrustum& f, const ObbPlaneStage& q, const double* t, double X, double eps_row) {
+  return HWY_DYNAMIC_DISPATCH(ObbRowsShortKernel)(f, q, t, X, eps_row);
 }
 
 void sphere_plane_stage(const ExactCertifiedFrustum& f, const double* c, double r, double mc, double T,

@@ -20,6 +20,12 @@ struct ObbPlaneStage {
 void obb_plane_stage(const ExactCertifiedFrustum& f, const double* c, const double (*e)[3], double T,
                      ObbPlaneStage& out);
 
+/// The rows of q (every plane lane) at the point t of the cube, against their bounds: bit j set
+/// where !(((a_j0 + a_j1 t_1) + a_j2 t_2) + a_j3 t_3 >= eps_j), eps_j = (A'_j X + |d'_j|) kEpsRow
+/// (exact_certified.cpp's witness on the rows row_bounds gives, per lane). Lanes past f.count are
+/// unspecified: the caller masks them with J.
+unsigned obb_rows_short(const ExactCertifiedFrustum& f, const ObbPlaneStage& q, const double* t, double X, double eps_row);
+
 /// Stage 1 of a sphere (centre c, radius r, magnitude mc = max |c_i|), on every plane of f: per
 /// plane v = n'.c and rho = r norm'; bit j of J where !(v + d_in - rho >= T), and of J only:
 /// crossing (v + d_out - rho < -T), reach (v + d_in + rho >= T), centre_in (v + d_in >= T);
