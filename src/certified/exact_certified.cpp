@@ -196,6 +196,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <iterator>
 #include <limits>
 #include <utility>
@@ -222,8 +224,20 @@ bool normalised(const double* lambda, int k, double* out) noexcept {
     largest = std::max(largest, lambda[q]);
   }
   if (!(largest > 0.0)) return false;
-  const int e = std::ilogb(largest);
-  for (int q = 0; q < k; ++q) out[q] = std::scalbn(lambda[q], -e);
+  std::uint64_t bits;
+  std::memcpy(&bits, &largest, sizeof bits);
+  const int field = int(bits >> 52);  // largest > 0: no sign bit
+  if (field == 0 || field == 2046) {  // subnormal, or 2^-e not a normal number: scalbn
+    const int e = std::ilogb(largest);
+    for (int q = 0; q < k; ++q) out[q] = std::scalbn(lambda[q], -e);
+    return true;
+  }
+  // 2^-e with e = field - 1023, a normal number: each product is what scalbn gives (exact, or
+  // one rounding of the exact product when it is subnormal).
+  const std::uint64_t scale_bits = std::uint64_t(2046 - field) << 52;
+  double scale;
+  std::memcpy(&scale, &scale_bits, sizeof scale);
+  for (int q = 0; q < k; ++q) out[q] = lambda[q] * scale;
   return true;
 }
 

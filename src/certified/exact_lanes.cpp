@@ -39,6 +39,7 @@ void ObbPlaneKernel(const F& f, const double* c, const double (*e)[3], double T,
   // All eight lanes of f.lanes, a fixed number of whole vectors (the compiler unrolls them and
   // their chains of dependent operations overlap); the lanes past count are masked off once, in
   // the bits, at the end.
+#pragma GCC unroll 8
   for (int k = 0; k < 8; k += n) {
     const auto nx = plane_lanes(d, f, F::kLaneNx, k), ny = plane_lanes(d, f, F::kLaneNy, k),
                nz = plane_lanes(d, f, F::kLaneNz, k);
