@@ -271,12 +271,13 @@ void register_stages(const char* kind, Classify classify) {
 //                   the boxes left cross a plane rather than lie within the certified margin;
 //   witness         left by the witness pass (a point of the box proved inside every plane);
 //   float_planes    left by the float pass's planes (J, and a p-vertex shared by J proved inside);
-//   combinations    left by the frame's combinations: what reaches the scalar cascade.
+//   combinations    left by the frame's combinations;
+//   box_planes      left by the box pass (stage 1 in double): what reaches the scalar cascade.
 void register_passes() {
   for (const std::string& d : distributions()) {
     benchmark::RegisterBenchmark(("passes/aabb/" + d).c_str(), [d](benchmark::State& s) {
       const auto& fr = frames<Aabb>(d);
-      std::size_t left[5] = {}, total = 0;
+      std::size_t left[6] = {}, total = 0;
       constexpr std::size_t kChunk = detail::kSoaChunk;
       alignas(64) float a[6][kChunk];
       for (std::size_t f = 0; f < fr.volumes.size(); ++f) {
@@ -318,13 +319,21 @@ void register_passes() {
           FloatOpenResult o;
           exact_float_open(ef, gathered, r, o);
           left[3] += o.count;
+          std::uint64_t rest[kChunk / 64] = {};
           for (std::size_t p = 0; p < o.count; ++p)
-            left[4] += !((o.outside[p / 64] | o.meets[p / 64]) >> (p % 64) & 1u);
+            if (!((o.outside[p / 64] | o.meets[p / 64]) >> (p % 64) & 1u)) {
+              ++left[4];
+              rest[o.order[p] / 64] |= std::uint64_t{1} << (o.order[p] % 64);
+            }
+          BoxPassResult bp;
+          exact_box_planes(ef, gathered, rest, bp);
+          for (std::size_t w = 0; w < bitset_words(n); ++w)
+            left[5] += std::size_t(__builtin_popcountll(rest[w] & ~(bp.outside[w] | bp.inside[w] | bp.meets[w])));
         }
       }
       for (auto _ : s) benchmark::DoNotOptimize(total);
-      const char* names[5] = {"certified", "exact_planes", "witness", "float_planes", "combinations"};
-      for (int k = 0; k < 5; ++k) s.counters[names[k]] = total ? double(left[k]) / double(total) : 0.0;
+      const char* names[6] = {"certified", "exact_planes", "witness", "float_planes", "combinations", "box_planes"};
+      for (int k = 0; k < 6; ++k) s.counters[names[k]] = total ? double(left[k]) / double(total) : 0.0;
       s.counters["boxes"] = double(total);
     });
   }

@@ -1,8 +1,10 @@
 // The AABB array form's float pass (Highway, runtime dispatch): boxes tested in float, several
 // per instruction, on the exact frustum's planes and the frame's combinations of planes, each
 // with its own certified threshold (the derivation is src/certified/exact_certified.cpp, "The
-// AABB array form's float pass"). Every bit it sets is a proof; a box it cannot decide is left to
-// the scalar cascade.
+// AABB array form's float pass"). Every bit it sets is a proof. What the float thresholds cannot
+// resolve (boxes within a float rounding of a plane, or small against their distance from the
+// origin) the box pass tests again in double, the scalar cascade's stage 1 a box per lane; a box
+// none of them decides is left to the scalar cascade.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "batch_combinations.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -256,6 +258,80 @@ void FloatOpenKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, 
   }
 }
 
+// exact_box_planes: the scalar stage 1's operations per lane (aabb_planes and centre_extent in
+// exact_certified.cpp, in their order, no fused multiply-add), so each lane's J, crossing and
+// p-vertex bits are the scalar function's.
+void BoxPlanesKernel(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint64_t* todo,
+                     BoxPassResult& res) {
+  const hn::CappedTag<double, 8> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  using V = hn::Vec<decltype(d)>;
+  constexpr std::size_t kCap = BoxPassResult::kCapacity;
+  const std::size_t N = hn::Lanes(d), n = boxes.count, words = bitset_words(n);
+  for (std::size_t w = 0; w < kCap / 64; ++w) res.outside[w] = res.inside[w] = res.meets[w] = 0;
+  if (f.empty || n == 0) return;  // no plane at all (count 0): every box inside, as the scalar test
+  // The boxes of `todo`, side by side in double (box t is box idx[t] of `boxes`).
+  std::uint32_t idx[kCap];
+  alignas(64) double c[6][kCap + 8];
+  const float* src[6] = {boxes.min_x, boxes.min_y, boxes.min_z, boxes.max_x, boxes.max_y, boxes.max_z};
+  std::size_t nt = 0;
+  for (std::size_t w = 0; w < words; ++w)
+    for (std::uint64_t b = todo[w] & detail::low_bits(n - w * 64); b != 0; b &= b - 1) {
+      const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
+      idx[nt] = std::uint32_t(q);
+      for (int k = 0; k < 6; ++k) c[k][nt] = src[k][q];
+      ++nt;
+    }
+  if (nt == 0) return;
+  for (std::size_t t = nt; t < nt + N; ++t)
+    for (int k = 0; k < 6; ++k) c[k][t] = 0.0;
+  alignas(64) std::uint64_t Jb[kCap + 8], crossb[kCap + 8], pinb[kCap + 8];
+  std::uint64_t out_bits[kCap / 64] = {}, finite_bits[kCap / 64] = {};
+  const V half = hn::Set(d, 0.5), t_box = hn::Set(d, f.t_box);
+  for (std::size_t i = 0; i < nt; i += N) {
+    V lo[3], hi[3], ce[3], he[3];
+    auto finite = hn::Eq(hn::Zero(d), hn::Zero(d));
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = hn::Load(d, c[k] + i), hi[k] = hn::Load(d, c[k + 3] + i);
+      finite = hn::And(finite, hn::And(hn::IsFinite(lo[k]), hn::IsFinite(hi[k])));
+      ce[k] = hn::Mul(half, hn::Add(lo[k], hi[k]));
+      he[k] = hn::Mul(half, hn::Sub(hi[k], lo[k]));
+    }
+    // m as the scalar test has it; for a finite box only the sign of a zero could differ, and
+    // T = t_box m is compared, never its sign.
+    const V m = hn::Max(hn::Max(hn::Max(hi[0], hi[1]), hi[2]), hn::Neg(hn::Min(hn::Min(lo[0], lo[1]), lo[2])));
+    const V T = hn::Mul(t_box, m), neg_t = hn::Neg(T);
+    auto J = hn::Zero(du), crossing = hn::Zero(du), p_in = hn::Zero(du);
+    auto outside = hn::Lt(T, T);  // false
+    for (int j = 0; j < f.count; ++j) {
+      const ExactCertifiedPlane& p = f.plane[std::size_t(j)];
+      const V nx = hn::Set(d, p.nx), ny = hn::Set(d, p.ny), nz = hn::Set(d, p.nz);
+      const V s = hn::Add(hn::Add(hn::Mul(nx, ce[0]), hn::Mul(ny, ce[1])), hn::Mul(nz, ce[2]));
+      const V rad = hn::Add(hn::Add(hn::Abs(hn::Mul(nx, he[0])), hn::Abs(hn::Mul(ny, he[1]))), hn::Abs(hn::Mul(nz, he[2])));
+      const V so = hn::Add(s, hn::Set(d, p.d_out_box)), si = hn::Add(s, hn::Set(d, p.d_in_box));
+      outside = hn::Or(outside, hn::Lt(hn::Add(so, rad), neg_t));
+      const auto bit = hn::Set(du, std::uint64_t{1} << j);
+      J = hn::Or(J, hn::IfThenElseZero(hn::RebindMask(du, hn::Not(hn::Ge(hn::Sub(si, rad), T))), bit));
+      crossing = hn::Or(crossing, hn::IfThenElseZero(hn::RebindMask(du, hn::Lt(hn::Sub(so, rad), neg_t)), bit));
+      p_in = hn::Or(p_in, hn::IfThenElseZero(hn::RebindMask(du, hn::Ge(hn::Add(si, rad), T)), bit));
+    }
+    hn::Store(J, du, Jb + i);
+    hn::Store(crossing, du, crossb + i);
+    hn::Store(p_in, du, pinb + i);
+    out_bits[i / 64] |= mask_bits(d, outside) << (i % 64);
+    finite_bits[i / 64] |= mask_bits(d, finite) << (i % 64);
+  }
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!(finite_bits[t / 64] >> (t % 64) & 1u)) continue;
+    const std::uint64_t bit = std::uint64_t{1} << (idx[t] % 64);
+    const std::size_t w = idx[t] / 64;
+    const std::uint64_t J = Jb[t];
+    if (out_bits[t / 64] >> (t % 64) & 1u) res.outside[w] |= bit;
+    else if (J == 0) res.inside[w] |= bit;
+    else if (crossb[t] != 0 && (pinb[t] & J) == J && f.same_p_vertex[J]) res.meets[w] |= bit;
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace cullproof
 HWY_AFTER_NAMESPACE();
@@ -267,6 +343,12 @@ static_assert(HWY_MAX_BYTES / sizeof(float) <= kReadable, "a vector reads at mos
 
 HWY_EXPORT(FloatFirstKernel);
 HWY_EXPORT(FloatOpenKernel);
+HWY_EXPORT(BoxPlanesKernel);
+
+void exact_box_planes(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint64_t* todo,
+                      BoxPassResult& r) {
+  HWY_DYNAMIC_DISPATCH(BoxPlanesKernel)(f, boxes, todo, r);
+}
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,
                        FloatFirstResult& r, const std::uint64_t* tried) {
   const float g[3] = {seed.x, seed.y, seed.z};

@@ -2,9 +2,10 @@
 // only prove: the SIMD certified batch (src/certified/batch_certified.cpp: outside and inside with
 // float margins, Highway runtime dispatch); the witness pass on what it leaves (a float point of
 // the volume proved inside every plane, a point proved outside one); for AABBs, the float pass on
-// the planes and the frame's combinations (src/certified/batch_combinations.cpp); for spheres, the
-// double pass, the cascade's own proofs a ball per lane (src/certified/batch_spheres.cpp); and the
-// scalar cascade (src/certified/exact_certified.cpp) for every volume still open. Every stage is
+// the planes and the frame's combinations, then the cascade's stage 1 in double a box per lane
+// (src/certified/batch_combinations.cpp); for spheres, the double pass, the cascade's own proofs a
+// ball per lane (src/certified/batch_spheres.cpp); and the scalar cascade
+// (src/certified/exact_certified.cpp) for every volume still open. Every stage is
 // certified, so the verdicts are the exact truth (docs/exact-culling.md, "Array forms").
 #include "cullproof/exact_certified_batch.hpp"
 
@@ -40,7 +41,8 @@ void zero_tail(float (&a)[R][kChunk], std::size_t n, std::size_t readable) noexc
 // undecided, gathered across chunks so that the float passes run on whole vectors however few
 // are left, then settled (`flush`, once kChunk are gathered, and at the end): the first float
 // pass (planes, witness points), then the float pass on the combinations (the boxes it leaves
-// sorted by J), and the cascade for what both leave. verdicts[i] receives box i's verdict.
+// sorted by J), the box pass (stage 1 in double) and the cascade for what they all leave.
+// verdicts[i] receives box i's verdict.
 class OpenBoxes {
  public:
   OpenBoxes(const ExactCertifiedFrustum& f, Visibility* verdicts) noexcept
@@ -67,8 +69,10 @@ class OpenBoxes {
 
   void flush() {
     if (n_ == 0) return;
-    if (f_.float_planes == 0) {  // no float pass: the cascade
-      for (std::size_t q = 0; q < n_; ++q) verdicts_[first_ + index_[q]] = cascade(box_, q);
+    if (f_.float_planes == 0) {  // no float pass: stage 1 in double, then the cascade
+      std::uint64_t todo[kOpen / 64];
+      detail::first_bits(n_, todo);
+      settle(todo);
       n_ = 0;
       return;
     }
@@ -80,12 +84,14 @@ class OpenBoxes {
     settle_bits(r.inside, words, Visibility::inside);
     settle_bits(r.meets, words, Visibility::intersecting);
     exact_float_open(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, r, open_);
+    std::uint64_t left[kOpen / 64] = {};
     for (std::size_t p = 0; p < open_.count; ++p) {
       const std::size_t q = open_.order[p];
-      verdicts_[first_ + index_[q]] = (open_.outside[p / 64] >> (p % 64) & 1u) ? Visibility::outside
-                                      : (open_.meets[p / 64] >> (p % 64) & 1u) ? Visibility::intersecting
-                                                                               : cascade(box_, q);
+      if (open_.outside[p / 64] >> (p % 64) & 1u) verdicts_[first_ + index_[q]] = Visibility::outside;
+      else if (open_.meets[p / 64] >> (p % 64) & 1u) verdicts_[first_ + index_[q]] = Visibility::intersecting;
+      else left[q / 64] |= std::uint64_t{1} << (q % 64);
     }
+    settle(left);
     n_ = 0;
   }
 
@@ -104,6 +110,23 @@ class OpenBoxes {
   Visibility cascade(const Boxes& a, std::size_t q) const {
     return exact_certified_aabb(f_, Aabb{{a[0][q], a[1][q], a[2][q]}, {a[3][q], a[4][q], a[5][q]}});
   }
+  // The boxes of `todo` (positions among the gathered): the box pass (stage 1 in double, several
+  // boxes per instruction), the cascade for what it leaves.
+  void settle(const std::uint64_t* todo) {
+    const std::size_t words = bitset_words(n_);
+    bool any = false;
+    for (std::size_t w = 0; w < words; ++w) any = any || todo[w] != 0;
+    if (!any) return;
+    exact_box_planes(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, todo, box_pass_);
+    settle_bits(box_pass_.outside, words, Visibility::outside);
+    settle_bits(box_pass_.inside, words, Visibility::inside);
+    settle_bits(box_pass_.meets, words, Visibility::intersecting);
+    for (std::size_t w = 0; w < words; ++w)
+      for (std::uint64_t b = todo[w] & ~(box_pass_.outside[w] | box_pass_.inside[w] | box_pass_.meets[w]); b != 0; b &= b - 1) {
+        const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
+        verdicts_[first_ + index_[q]] = cascade(box_, q);
+      }
+  }
   void settle_bits(const std::uint64_t* bits, std::size_t words, Visibility v) {
     for (std::size_t w = 0; w < words; ++w)
       for (std::uint64_t b = bits[w]; b != 0; b &= b - 1) verdicts_[first_ + index_[w * 64 + std::size_t(__builtin_ctzll(b))]] = v;
@@ -117,6 +140,7 @@ class OpenBoxes {
   std::uint64_t tried_[kOpen / 64] = {};
   FloatFirstResult first_pass_;
   FloatOpenResult open_;
+  BoxPassResult box_pass_;
   alignas(64) Boxes box_;
 };
 

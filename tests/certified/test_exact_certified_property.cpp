@@ -83,6 +83,34 @@ bool float_pass(const ExactCertifiedFrustum& f, const Aabb& b, const glm::vec3& 
   return false;
 }
 
+// The AABB array form's box pass (stage 1 in double) on one box: whether it decides it, and the
+// verdict. It must decide exactly the boxes the scalar cascade decides at stage 1, as it does
+// (the same operations per lane): a box it decides that the scalar test sends on, or the reverse,
+// is an error even when the verdict happens to be right.
+bool box_pass(const ExactCertifiedFrustum& f, const Aabb& b, Visibility& v) {
+  alignas(64) float a[6][64] = {};
+  for (int k = 0; k < 3; ++k) a[k][0] = b.min[k], a[3 + k][0] = b.max[k];
+  const std::uint64_t todo = 1;
+  BoxPassResult r;
+  exact_box_planes(f, AabbSoa{a[0], a[1], a[2], a[3], a[4], a[5], 1}, &todo, r);
+  if (r.outside[0] & 1u) return v = Visibility::outside, true;
+  if (r.inside[0] & 1u) return v = Visibility::inside, true;
+  if (r.meets[0] & 1u) return v = Visibility::intersecting, true;
+  return false;
+}
+
+void expect_box_pass_is_stage_one(const ExactCertifiedFrustum& f, const Aabb& b) {
+  ExactStage stage;
+  const Visibility scalar = exact_certified_aabb(f, b, &stage);
+  Visibility v;
+  const bool decided = box_pass(f, b, v);
+  if (decided != (stage == ExactStage::planes && !f.empty))
+    RC_FAIL(std::string("the box pass ") + (decided ? "decides" : "leaves") + " a box the scalar stage 1 " +
+            (decided ? "leaves" : "decides"));
+  if (decided && v != scalar)
+    RC_FAIL("the box pass says " + std::string(to_string(v)) + ", the scalar cascade " + std::string(to_string(scalar)));
+}
+
 // The SIMD witness pass of the sphere batch on one sphere: whether it proves it intersecting.
 bool simd_witness(const ExactCertifiedFrustum& f, const Sphere& s, const glm::vec3& seed) {
   const SphereSoa one{&s.center.x, &s.center.y, &s.center.z, &s.radius, 1};
@@ -142,6 +170,7 @@ TEST_P(ExactCertifiedOnEveryFamily, EqualsTheOracle) {
           RC_FAIL("the float pass proved a box " + std::string(to_string(v)) + " whose truth is " +
                   std::string(to_string(truth)));
       }
+      expect_box_pass_is_stage_one(f, *a);
       Obb o;
       if (exact_obb(*a, o)) expect("obb-exact-certified (the box as an OBB)", exact_certified_obb(f, o));
     } else if (const Obb* o = std::get_if<Obb>(&g.volume)) {
@@ -236,6 +265,7 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
       if (is_valid(Point{seed}) && float_pass(f, *a, seed, fp) && fp != truth)
         RC_FAIL("the float pass proved a box " + std::string(to_string(fp)) + ", the truth is " +
                 std::string(to_string(truth)) + " (k = " + std::to_string(k) + ")");
+      expect_box_pass_is_stage_one(f, *a);
       v = exact_certified_aabb(f, *a), method = "aabb-exact-certified";
     }
     else if (const Obb* o = std::get_if<Obb>(&g.volume)) v = exact_certified_obb(f, *o), method = "obb-exact-certified";
