@@ -19,6 +19,14 @@ inline Visibility bit_verdict(const std::uint64_t* visible, const std::uint64_t*
   return Visibility(v + i);
 }
 
+/// What a pass of an array form proves of a chunk of volumes: bit i of `outside`, `inside` or
+/// `meets` where volume i is proved outside, inside or intersecting; a volume with none of them
+/// is left to the next pass.
+struct PassProofs {
+  static constexpr std::size_t kCapacity = kSoaChunk;
+  std::uint64_t outside[kCapacity / 64], inside[kCapacity / 64], meets[kCapacity / 64];
+};
+
 /// The k lowest bits set (all 64 for k >= 64): a bitset word's first k items.
 constexpr std::uint64_t low_bits(std::size_t k) noexcept { return k >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << k) - 1; }
 

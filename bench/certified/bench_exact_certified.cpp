@@ -325,7 +325,7 @@ void register_passes() {
               ++left[4];
               rest[o.order[p] / 64] |= std::uint64_t{1} << (o.order[p] % 64);
             }
-          BoxPassResult bp;
+          detail::PassProofs bp;
           exact_box_planes(ef, gathered, rest, bp);
           for (std::size_t w = 0; w < bitset_words(n); ++w)
             left[5] += std::size_t(__builtin_popcountll(rest[w] & ~(bp.outside[w] | bp.inside[w] | bp.meets[w])));
@@ -363,7 +363,7 @@ void register_passes() {
             todo[w] &= ~meets[w];
             left[1] += std::size_t(__builtin_popcountll(todo[w]));
           }
-          BallPassResult r;
+          detail::PassProofs r;
           exact_ball_pass(ef, chunk, todo, r);
           for (std::size_t w = 0; w < bitset_words(m); ++w)
             left[2] += std::size_t(__builtin_popcountll(todo[w] & ~(r.outside[w] | r.inside[w] | r.meets[w])));

@@ -262,11 +262,11 @@ void FloatOpenKernel(const ExactCertifiedFrustum::FloatItem* items, int planes, 
 // exact_certified.cpp, in their order, no fused multiply-add), so each lane's J, crossing and
 // p-vertex bits are the scalar function's.
 void BoxPlanesKernel(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint64_t* todo,
-                     BoxPassResult& res) {
+                     detail::PassProofs& res) {
   const hn::CappedTag<double, 8> d;
   const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
-  constexpr std::size_t kCap = BoxPassResult::kCapacity;
+  constexpr std::size_t kCap = detail::PassProofs::kCapacity;
   const std::size_t N = hn::Lanes(d), n = boxes.count, words = bitset_words(n);
   for (std::size_t w = 0; w < kCap / 64; ++w) res.outside[w] = res.inside[w] = res.meets[w] = 0;
   if (f.empty || n == 0) return;  // no plane at all (count 0): every box inside, as the scalar test
@@ -346,7 +346,7 @@ HWY_EXPORT(FloatOpenKernel);
 HWY_EXPORT(BoxPlanesKernel);
 
 void exact_box_planes(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint64_t* todo,
-                      BoxPassResult& r) {
+                      detail::PassProofs& r) {
   HWY_DYNAMIC_DISPATCH(BoxPlanesKernel)(f, boxes, todo, r);
 }
 void exact_float_first(const ExactCertifiedFrustum& f, const AabbSoa& part, const glm::vec3& seed,

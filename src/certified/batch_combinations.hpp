@@ -1,6 +1,7 @@
 // The AABB array form's float pass (batch_combinations.cpp; not installed).
 #pragma once
 
+#include "batch_adapter.hpp"
 #include "cullproof/cull_batch.hpp"
 #include "cullproof/exact_certified.hpp"
 
@@ -46,19 +47,13 @@ struct FloatOpenResult {
 void exact_float_open(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const FloatFirstResult& r,
                       FloatOpenResult& o);
 
-/// What the box pass proves: bit i of `outside`, `inside` or `meets` where box i is proved
-/// outside, inside or intersecting; a box with none of them is left to the scalar cascade.
-struct BoxPassResult {
-  static constexpr std::size_t kCapacity = FloatFirstResult::kCapacity;
-  std::uint64_t outside[kCapacity / 64], inside[kCapacity / 64], meets[kCapacity / 64];
-};
-
 /// The scalar cascade's stage 1 (exact_certified.cpp, exact_certified_aabb: the planes in double
-/// with the threshold T = t_box m) on the boxes of `boxes` (at most kCapacity) whose bit is set in
-/// `todo`, a box per lane, and what it decides alone: a plane proves the box outside; no plane is
+/// with the threshold T = t_box m) on the boxes of `boxes` (at most detail::PassProofs::kCapacity)
+/// whose bit is set in `todo`, a box per lane, and what it decides alone (a box none of them
+/// proves is left to the scalar cascade): a plane proves the box outside; no plane is
 /// left (J empty): inside; a plane crossed and the p-vertex shared by J proved inside every plane
 /// of J: intersecting. Boxes with a coordinate that is not finite are left to the cascade.
 void exact_box_planes(const ExactCertifiedFrustum& f, const AabbSoa& boxes, const std::uint64_t* todo,
-                      BoxPassResult& r);
+                      detail::PassProofs& r);
 
 }  // namespace cullproof

@@ -80,9 +80,7 @@ class OpenBoxes {
     exact_float_first(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, seed_, first_pass_, tried_);
     const FloatFirstResult& r = first_pass_;
     const std::size_t words = bitset_words(n_);
-    settle_bits(r.outside, words, Visibility::outside);
-    settle_bits(r.inside, words, Visibility::inside);
-    settle_bits(r.meets, words, Visibility::intersecting);
+    settle_proved(r, words);
     exact_float_open(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, r, open_);
     std::uint64_t left[kOpen / 64] = {};
     for (std::size_t p = 0; p < open_.count; ++p) {
@@ -118,9 +116,7 @@ class OpenBoxes {
     for (std::size_t w = 0; w < words; ++w) any = any || todo[w] != 0;
     if (!any) return;
     exact_box_planes(f_, AabbSoa{box_[0], box_[1], box_[2], box_[3], box_[4], box_[5], n_}, todo, box_pass_);
-    settle_bits(box_pass_.outside, words, Visibility::outside);
-    settle_bits(box_pass_.inside, words, Visibility::inside);
-    settle_bits(box_pass_.meets, words, Visibility::intersecting);
+    settle_proved(box_pass_, words);
     for (std::size_t w = 0; w < words; ++w)
       for (std::uint64_t b = todo[w] & ~(box_pass_.outside[w] | box_pass_.inside[w] | box_pass_.meets[w]); b != 0; b &= b - 1) {
         const std::size_t q = w * 64 + std::size_t(__builtin_ctzll(b));
@@ -131,6 +127,13 @@ class OpenBoxes {
     for (std::size_t w = 0; w < words; ++w)
       for (std::uint64_t b = bits[w]; b != 0; b &= b - 1) verdicts_[first_ + index_[w * 64 + std::size_t(__builtin_ctzll(b))]] = v;
   }
+  // The verdicts a pass proved (its outside, inside and meets bits).
+  template <class Proofs>
+  void settle_proved(const Proofs& r, std::size_t words) {
+    settle_bits(r.outside, words, Visibility::outside);
+    settle_bits(r.inside, words, Visibility::inside);
+    settle_bits(r.meets, words, Visibility::intersecting);
+  }
 
   const ExactCertifiedFrustum& f_;
   Visibility* verdicts_;
@@ -140,7 +143,7 @@ class OpenBoxes {
   std::uint64_t tried_[kOpen / 64] = {};
   FloatFirstResult first_pass_;
   FloatOpenResult open_;
-  BoxPassResult box_pass_;
+  detail::PassProofs box_pass_;
   alignas(64) Boxes box_;
 };
 
@@ -253,7 +256,7 @@ class OpenSpheres {
   glm::vec3 seed_;
   std::size_t n_ = 0, m_ = 0;
   std::size_t index_[kChunk], left_index_[kChunk];
-  BallPassResult pass_;
+  detail::PassProofs pass_;
   alignas(64) float ball_[4][kChunk];
   alignas(64) float left_[4][kChunk];
 };

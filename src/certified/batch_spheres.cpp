@@ -91,9 +91,9 @@ int subsets_of(const F& f, const int* js, int m, Subset* out) {
   return n;
 }
 
-constexpr std::size_t kCap = BallPassResult::kCapacity;
+constexpr std::size_t kCap = detail::PassProofs::kCapacity;
 
-void BallPassKernel(const F& f, const SphereSoa& balls, const std::uint64_t* todo, BallPassResult& res) {
+void BallPassKernel(const F& f, const SphereSoa& balls, const std::uint64_t* todo, detail::PassProofs& res) {
   const hn::CappedTag<double, 8> d;
   const hn::RebindToUnsigned<decltype(d)> du;
   using V = hn::Vec<decltype(d)>;
@@ -327,7 +327,7 @@ namespace cullproof {
 HWY_EXPORT(BallPassKernel);
 
 void exact_ball_pass(const ExactCertifiedFrustum& f, const SphereSoa& balls, const std::uint64_t* todo,
-                     BallPassResult& r) {
+                     detail::PassProofs& r) {
   HWY_DYNAMIC_DISPATCH(BallPassKernel)(f, balls, todo, r);
 }
 

@@ -1,6 +1,7 @@
 // The sphere array form's double pass (batch_spheres.cpp; not installed).
 #pragma once
 
+#include "batch_adapter.hpp"
 #include "cullproof/cull_batch.hpp"
 #include "cullproof/exact_certified.hpp"
 
@@ -9,21 +10,13 @@
 
 namespace cullproof {
 
-/// What the double pass proves of a chunk of balls: bit i of `outside`, `inside` or `meets`
-/// where ball i is proved outside, inside or intersecting; a ball with none of them is left to
-/// the scalar cascade.
-struct BallPassResult {
-  static constexpr std::size_t kCapacity = 256;
-  std::uint64_t outside[kCapacity / 64], inside[kCapacity / 64], meets[kCapacity / 64];
-};
-
-/// The double pass over the balls of `balls` (at most kCapacity) whose bit is set in `todo`:
+/// The double pass over the balls of `balls` (at most detail::PassProofs::kCapacity) whose bit is set in `todo`:
 /// the scalar cascade's stage 1 and its proofs of stage 2 (anchors, witness points, Farkas
 /// multipliers from the projections onto the planes of J), several balls per instruction, the
 /// balls sorted by J first so that a vector's balls share their planes. The arrays of `balls` are
 /// read in whole vectors: readable up to balls.count rounded up to kBallReadable.
 inline constexpr std::size_t kBallReadable = 16;
 void exact_ball_pass(const ExactCertifiedFrustum& f, const SphereSoa& balls, const std::uint64_t* todo,
-                     BallPassResult& r);
+                     detail::PassProofs& r);
 
 }  // namespace cullproof

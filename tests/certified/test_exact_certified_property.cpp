@@ -91,7 +91,7 @@ bool box_pass(const ExactCertifiedFrustum& f, const Aabb& b, Visibility& v) {
   alignas(64) float a[6][64] = {};
   for (int k = 0; k < 3; ++k) a[k][0] = b.min[k], a[3 + k][0] = b.max[k];
   const std::uint64_t todo = 1;
-  BoxPassResult r;
+  detail::PassProofs r;
   exact_box_planes(f, AabbSoa{a[0], a[1], a[2], a[3], a[4], a[5], 1}, &todo, r);
   if (r.outside[0] & 1u) return v = Visibility::outside, true;
   if (r.inside[0] & 1u) return v = Visibility::inside, true;
@@ -126,7 +126,7 @@ bool double_pass(const ExactCertifiedFrustum& f, const Sphere& s, Visibility& v)
   alignas(64) float a[4][kBallReadable] = {};
   a[0][0] = s.center.x, a[1][0] = s.center.y, a[2][0] = s.center.z, a[3][0] = s.radius;
   const std::uint64_t todo = 1;
-  BallPassResult r;
+  detail::PassProofs r;
   exact_ball_pass(f, SphereSoa{a[0], a[1], a[2], a[3], 1}, &todo, r);
   if (r.outside[0] & 1u) return v = Visibility::outside, true;
   if (r.inside[0] & 1u) return v = Visibility::inside, true;
