@@ -138,6 +138,19 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
     std::printf("%zu record(s) rewritten with %s's verdict now\n", changed.size(), m->name.c_str());
     return 0;
   }
+  if (action == "rejudge") {
+    const std::vector<Rejudged> changed = rejudge(dir, methods);
+    std::size_t flipped = 0;
+    for (const Rejudged& r : changed) {
+      const bool flip = r.violated_before != r.violates_now;
+      flipped += flip;
+      std::printf("%-56s %s  distance %.6g, allowance %.6g\n", r.id.c_str(),
+                  flip ? (r.violates_now ? "now breaks its claim" : "no longer breaks its claim") : "fields updated",
+                  r.distance, r.allowance);
+    }
+    std::printf("%zu record(s) rewritten, %zu whose claim judgement changed\n", changed.size(), flipped);
+    return 0;
+  }
   // replay
   std::size_t still = 0, fixed = 0, changed = 0, truth_changed = 0, regressed = 0;
   for (const auto& e : entries) {
@@ -167,9 +180,9 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
 
 void add_corpus(CLI::App& app, CorpusCommand& c, ExternalProgram& external) {
   c.cmd = app.add_subcommand("corpus", "Inspect and replay the mismatch corpus");
-  c.cmd->add_option("action", c.action, "list | show ID | replay | rerecord METHOD (after a deliberate change to METHOD: its verdict in every record taken again)")
+  c.cmd->add_option("action", c.action, "list | show ID | replay | rerecord METHOD (after a deliberate change to METHOD: its verdict in every record taken again) | rejudge (after a change to the judge: every record's claim judgement taken again)")
       ->required()
-      ->check(CLI::IsMember({"list", "show", "replay", "rerecord"}));
+      ->check(CLI::IsMember({"list", "show", "replay", "rerecord", "rejudge"}));
   c.cmd->add_option("id", c.id, "Case id (show), method name (rerecord)");
   c.cmd->add_option("--dir", c.dir, "Corpus directory")->capture_default_str();
   c.cmd->add_flag("--strict", c.strict, "replay: fail unless every case still fails as recorded");
@@ -199,8 +212,8 @@ int run_corpus_command(const CorpusCommand& c, const ExternalProgram& external) 
     return report::write_case_files(c.dir, c.id, c.html, c.svg, c.zoom_svg);
   }
 #endif
-  if (!external.names.empty() && c.action != "replay") {
-    std::cerr << "cullproof corpus: --external is for replay\n";
+  if (!external.names.empty() && c.action != "replay" && c.action != "rejudge") {
+    std::cerr << "cullproof corpus: --external is for replay and rejudge\n";
     return 2;
   }
   // A program's methods beside every built-in one (a case's other recorded verdicts replay too).

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
 
@@ -25,6 +26,9 @@ struct CaseOutcome {
   double distance = std::numeric_limits<double>::quiet_NaN();  // oracle distance, erring cases only
   double scale = 0.0;                                          // gen::case_scale, erring cases only
   bool float_exact = false;                                    // gen::float_exact
+  // error_distance per verdict (indexed by Visibility), where some method's claim needs it.
+  static constexpr double kUnmeasured = -1.0;
+  std::array<double, 3> verdict_distance{kUnmeasured, kUnmeasured, kUnmeasured};
 };
 
 std::int8_t verdict_code(const Answer& a) { return a ? std::int8_t(*a) : std::int8_t(-1); }
@@ -208,18 +212,26 @@ class DistributionRun {
   }
 
   // The oracle's distance (an exact QP for outside volumes) and the case scale, once per case that
-  // some method got wrong, in parallel: they depend on the case, not on the method.
+  // some method got wrong, and the distance of each wrong verdict from the truth where a claim is
+  // judged on it, in parallel: they depend on the case and the verdict, not on the method.
   void measure_errors() {
     tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per_, 16), [&](const tbb::blocked_range<std::uint64_t>& r) {
       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
+        CaseOutcome& o = out_[i];
         bool erred = false;
         for (std::size_t k = 0; k < ms_.size(); ++k) {
-          const std::int8_t v = out_[i].verdict[k];
-          erred = erred || (v >= 0 && error_class(Visibility(v), out_[i].truth, ms_[k].three_way) != ErrorClass::correct);
+          const std::int8_t v = o.verdict[k];
+          erred = erred || (v >= 0 && error_class(Visibility(v), o.truth, ms_[k].three_way) != ErrorClass::correct);
         }
         if (!erred) continue;
-        out_[i].distance = oracle::classify(cases_[i].frustum, cases_[i].volume, oracle::Options{true, true, false}).distance;
-        out_[i].scale = gen::case_scale(cases_[i].frustum, cases_[i].volume);
+        o.distance = oracle::classify(cases_[i].frustum, cases_[i].volume, oracle::Options{true, true, false}).distance;
+        o.scale = gen::case_scale(cases_[i].frustum, cases_[i].volume);
+        for (std::size_t k = 0; k < ms_.size(); ++k) {
+          const std::int8_t v = o.verdict[k];
+          if (v < 0 || o.verdict_distance[std::size_t(v)] != CaseOutcome::kUnmeasured) continue;
+          if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way), o.float_exact))
+            o.verdict_distance[std::size_t(v)] = error_distance(cases_[i].frustum, cases_[i].volume, Visibility(v));
+        }
       }
     });
   }
@@ -238,17 +250,10 @@ class DistributionRun {
     return frames;
   }
 
-  // The distance a method's error is judged on: the backward distance (an LP) only where it can
-  // change the answer, a claim that allows this class within a tolerance and an oracle distance
-  // beyond it.
-  double judged_distance(const Method& m, std::uint64_t i, ErrorClass cls) const {
-    const bool hard = cls == ErrorClass::false_reject || cls == ErrorClass::false_inside;
-    const bool tolerant =
-        m.claim == Claim::exact || m.claim == Claim::certified_exact || (m.claim == Claim::conservative && hard);
-    const bool banded = m.claim == Claim::certified_exact;  // a proven band, float-exact or not
-    return tolerant && (banded || !out_[i].float_exact) && out_[i].distance > m.tolerance * out_[i].scale
-               ? error_distance(cases_[i].frustum, cases_[i].volume, cls, out_[i].distance)
-               : out_[i].distance;
+  // The distance a method's error is judged on (error_distance), measured where its claim needs it.
+  double judged_distance(std::size_t k, std::uint64_t i, ErrorClass cls) const {
+    if (!needs_distance(ms_[k].claim, cls, out_[i].float_exact)) return std::numeric_limits<double>::infinity();
+    return out_[i].verdict_distance[std::size_t(out_[i].verdict[k])];
   }
 
   // Method k's counts over the cases, and its errors recorded in the corpus.
@@ -275,7 +280,7 @@ class DistributionRun {
         case ErrorClass::under_inside: ++s.under_inside; break;
       }
       const bool violation =
-          violates_claim(m.claim, cls, judged_distance(m, i, cls), m.tolerance, out_[i].scale, out_[i].float_exact);
+          violates_claim(m.claim, cls, judged_distance(k, i, cls), m.tolerance, out_[i].scale, out_[i].float_exact);
       if (violation && out_[i].float_exact) ++s.float_exact_violations;
       if (violation) ++s.claim_violations;
       if (violation && !s.first_violation) s.first_violation = first_ + i;

@@ -26,6 +26,20 @@ std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint
                      m.name);
 }
 
+void set_judgement(nlohmann::json& x, const oracle::VerdictDistance& vd, const Method& m, double scale, bool float_exact) {
+  x.erase("backward_distance");
+  x["float_exact"] = float_exact;
+  x["verdict_distance"] = std::isfinite(vd.distance) ? nlohmann::json(vd.distance) : nlohmann::json(nullptr);
+  x["verdict_distance_kind"] = std::string(oracle::to_string(vd.shift));
+  x["tolerance"] = m.tolerance;
+  switch (m.claim) {
+    case Claim::certified_exact: x["allowance"] = m.tolerance * scale; break;
+    case Claim::conservative:
+    case Claim::exact: x["allowance"] = float_exact ? 0.0 : m.tolerance * scale; break;
+    default: x["allowance"] = nullptr; break;
+  }
+}
+
 CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& g, const Method& m, Visibility verdict,
                               gen::Distribution d, std::uint64_t seed, std::uint64_t index,
                               const std::vector<Method>& all, const PathCase* path) {
@@ -47,12 +61,12 @@ CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& 
   x["origin"] = std::string(to_string(m.origin));
   if (!m.three_way) x["two_way"] = true;
   const double scale = gen::case_scale(g.frustum, g.volume);
-  const double backward = backward_distance(g.frustum, g.volume, cls);
   const bool exact_case = gen::float_exact(g.frustum, g.volume);
-  const bool violates = violates_claim(m.claim, cls, std::min(r.distance, backward), m.tolerance, scale, exact_case);
+  const oracle::VerdictDistance vd = oracle::distance_to_verdict(g.frustum, g.volume, verdict);
+  const bool violates = violates_claim(m.claim, cls, vd.distance, m.tolerance, scale, exact_case);
   x["violates_claim"] = violates;
   x["float_exact"] = exact_case;
-  x["backward_distance"] = std::isfinite(backward) ? nlohmann::json(backward) : nlohmann::json(nullptr);
+  set_judgement(x, vd, m, scale, exact_case);
   x["distribution"] = std::string(gen::to_string(d));
   x["distance"] = std::isfinite(r.distance) ? nlohmann::json(r.distance) : nlohmann::json(nullptr);
   x["distance_kind"] = oracle::to_string(r.distance_kind);

@@ -2,6 +2,8 @@
 // over a camera path, shrinking, corpus records and faults, timing, and the progress line.
 #pragma once
 
+#include "cullproof/oracle.hpp"
+
 #include "cullproof/campaign.hpp"
 
 #include <atomic>
@@ -67,6 +69,13 @@ struct CorpusRecord {
   bool written = false;
   bool violates = false;
 };
+
+/// The judgement fields of a record of method m's error: "float_exact", "verdict_distance" (error_distance; null
+/// when no shift helps), "verdict_distance_kind" (oracle::to_string(VerdictShift)), "tolerance"
+/// and "allowance" (the distance within which the claim forgives the error: tolerance x scale, 0
+/// on a float-exact case where the claim allows only rounding; null for a claim without one).
+/// Removes the older "backward_distance".
+void set_judgement(nlohmann::json& record, const oracle::VerdictDistance& vd, const Method& m, double scale, bool float_exact);
 
 /// Writes one corpus case unless the same geometry is already recorded.
 /// `path`: the camera path a stateful method's error needs to reproduce, recorded with the case

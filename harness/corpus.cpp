@@ -1,6 +1,8 @@
 // The mismatch corpus (see cullproof/corpus.hpp).
 #include "cullproof/corpus.hpp"
 
+#include "campaign_internal.hpp"
+#include "cullproof/generators.hpp"
 #include "cullproof/oracle.hpp"
 
 #include <fmt/format.h>
@@ -90,6 +92,35 @@ std::vector<Rerecorded> rerecord_verdicts(const std::filesystem::path& dir, cons
     else it->erase(m.name);
     write_case_file(e.file, e.c, /*overwrite=*/true);
     out.push_back(Rerecorded{e.file, before, after});
+  }
+  return out;
+}
+
+std::vector<Rejudged> rejudge(const std::filesystem::path& dir, const std::vector<Method>& methods) {
+  std::vector<Rejudged> out;
+  for (CorpusEntry& e : load_corpus(dir)) {
+    const auto m = std::find_if(methods.begin(), methods.end(), [&](const Method& x) { return x.name == e.method; });
+    if (m == methods.end()) continue;
+    const oracle::VerdictDistance vd = oracle::distance_to_verdict(e.c.frustum, e.c.volume, e.verdict);
+    if (vd.truth != *e.c.truth) continue;
+    const double scale = gen::case_scale(e.c.frustum, e.c.volume);
+    const bool exact_case = gen::float_exact(e.c.frustum, e.c.volume);
+    const ErrorClass cls = error_class(e.verdict, vd.truth, m->three_way);
+    nlohmann::json x = e.c.extra;
+    x["violates_claim"] = violates_claim(m->claim, cls, vd.distance, m->tolerance, scale, exact_case);
+    detail::set_judgement(x, vd, *m, scale, exact_case);
+    if (x == e.c.extra) continue;
+    Rejudged r;
+    r.file = e.file;
+    r.id = e.c.id;
+    const auto before = e.c.extra.find("violates_claim");
+    r.violated_before = before != e.c.extra.end() && before->is_boolean() && before->get<bool>();
+    r.violates_now = x["violates_claim"].get<bool>();
+    r.distance = vd.distance;
+    r.allowance = x["allowance"].is_number() ? x["allowance"].get<double>() : 0.0;
+    e.c.extra = std::move(x);
+    write_case_file(e.file, e.c, /*overwrite=*/true);
+    out.push_back(std::move(r));
   }
   return out;
 }

@@ -91,8 +91,10 @@ std::string describe(const CorpusEntry& e) {
   std::string s = fmt::format("  {} says {} where the truth is {} ({}), found by the {} distribution\n", e.method,
                               to_string(e.verdict), e.c.truth ? to_string(*e.c.truth) : "?", to_string(e.error),
                               e.distribution);
-  s += fmt::format("  distance to the boundary (oracle): {} ({}); backward distance {}; scale {}\n", field("distance"),
-                   field("distance_kind"), field("backward_distance"), field("scale"));
+  s += fmt::format("  distance to the verdict given: {} ({}); allowance {} (tolerance {} x scale {}{})\n",
+                   field("verdict_distance"), field("verdict_distance_kind"), field("allowance"), field("tolerance"),
+                   field("scale"), x.value("float_exact", false) ? ", float-exact: none" : "");
+  s += fmt::format("  distance to the boundary (oracle): {} ({})\n", field("distance"), field("distance_kind"));
   Case bare = e.c;
   bare.extra = nlohmann::json::object();
   s += "  case: " + format_case(bare) + "\n" + hex_numbers(e.c) + "\n";

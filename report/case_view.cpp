@@ -289,13 +289,13 @@ V3 error_focus(const CorpusEntry& e, const std::array<Plane4, 6>& planes, const 
   return focus;
 }
 
-// How wide the error is: its distance (the smaller of the oracle's and the backward one), never
+// How wide the error is: its distance (the smaller of the boundary's and the verdict's), never
 // below a few float spacings at the focus. A distance of 0 is a contact, with no gap to resolve at
 // any magnification: then the view is sized to the volume, to show what touches what.
 double error_width(const json& x, const V3& focus, const Scene& scene) {
   double width = std::numeric_limits<double>::infinity();
   bool contact = false;
-  for (const char* key : {"distance", "backward_distance"})
+  for (const char* key : {"distance", "verdict_distance", "backward_distance"})
     if (x.contains(key) && x[key].is_number()) {
       const double d = x[key].get<double>();
       if (d > 0) width = std::min(width, d);
@@ -345,6 +345,9 @@ json case_view_json(const CorpusEntry& e) {
           {"float_exact", x.value("float_exact", false)},
           {"distance", x.contains("distance") ? x["distance"] : json(nullptr)},
           {"distance_kind", x.value("distance_kind", "")},
+          {"verdict_distance", x.contains("verdict_distance") ? x["verdict_distance"] : json(nullptr)},
+          {"verdict_distance_kind", x.value("verdict_distance_kind", "")},
+          {"allowance", x.contains("allowance") ? x["allowance"] : json(nullptr)},
           {"backward_distance", x.contains("backward_distance") ? x["backward_distance"] : json(nullptr)},
           {"reproduce", x.value("reproduce", "")},
           {"note", c.note},

@@ -39,29 +39,23 @@ std::string_view to_string(ErrorClass e) noexcept;
 /// The class of `verdict` when the truth is `truth`. A two-way method (three_way == false)
 /// answers `intersecting` for "visible": it is never charged with an under-inside.
 ErrorClass error_class(Visibility verdict, Visibility truth, bool three_way = true) noexcept;
-/// Whether an error of class `e` at exact boundary distance `distance` breaks `claim`, for a
+/// Whether an error of class `e` at distance `distance` from being right (error_distance) breaks `claim`, for a
 /// method with rounding tolerance `tolerance` (relative to `scale`, see Method::tolerance). On a
 /// float-exact case (gen::float_exact) nothing rounds, so `conservative` and `exact` claims get no
 /// allowance: every error they forbid breaks them, however close to the boundary. A tolerance of
 /// 0 forgives nothing, not even an error at distance 0.
 bool violates_claim(Claim claim, ErrorClass e, double distance, double tolerance, double scale, bool float_exact) noexcept;
 
-/// How far an error of class `e` lies from being right, as a backward error in the planes: the
-/// smallest shift delta of the (normalised) frustum planes, all outward or all inward, under
-/// which the method's verdict would be the truth. Rounding perturbs plane values, so this is the
-/// distance a rounding tolerance is measured against. (The oracle's Euclidean distance can be
-/// far larger for a thin frustum: a point 1e-6 outside one of two nearly parallel planes may lie
-/// 1e-2 from the frustum.) With s_j(x) the signed distance to plane j and
-/// mu = max over x in B of min_j s_j(x) (a small LP, solved by vertex enumeration in double):
-///   false reject: mu;  false intersect: -mu;
-///   false inside: max_j max_x -s_j(x) (protrusion);  under-inside: min_j min_x s_j(x).
-/// Planes come from the matrix in double for end-to-end cases. Spheres are not handled
-/// (returns +infinity: the oracle's distance is used). Returns +infinity when no finite shift
-/// helps (a plane that contains nothing).
-double backward_distance(const CaseFrustum& f, const Volume& v, ErrorClass e);
-
-/// The distance a claim is judged on: min(oracle distance, backward_distance).
-double error_distance(const CaseFrustum& f, const Volume& v, ErrorClass e, double oracle_distance);
+/// The distance a claim's rounding allowance is compared with: how far `verdict` lies from being
+/// the truth, the smallest shift of the planes (or of the volume, which never needs less) that
+/// makes it the truth, measured toward the verdict given (oracle::distance_to_verdict, a proven
+/// lower bound). `inside` for a volume that straddles the frustum is as far as the volume
+/// protrudes; `outside` for one that lies inside, as deep as it reaches in. +infinity when no
+/// shift helps (a plane that contains nothing, or none that limits space).
+double error_distance(const CaseFrustum& f, const Volume& v, Visibility verdict);
+/// Whether violates_claim's answer for an error of class `e` depends on its distance (a claim
+/// that forgives it within a tolerance or a band), so that the distance must be measured.
+bool needs_distance(Claim claim, ErrorClass e, bool float_exact) noexcept;
 
 struct VerifyOptions {
   std::uint64_t cases = 100000;                ///< per distribution

@@ -73,4 +73,19 @@ struct Rerecorded {
 /// corpus by hand. Returns the records rewritten.
 std::vector<Rerecorded> rerecord_verdicts(const std::filesystem::path& dir, const Method& m);
 
+/// One record judged again by the judge as it is now.
+struct Rejudged {
+  std::filesystem::path file;
+  std::string id;
+  bool violated_before = false, violates_now = false;  ///< its "violates_claim", recorded and now
+  double distance = 0.0;    ///< error_distance now
+  double allowance = 0.0;   ///< the distance within which the claim forgives it (0: none)
+};
+/// After a change to the judge (error_distance, violates_claim): judges every record under `dir`
+/// of a method among `methods` again, with its claim and tolerance, and rewrites (atomically) each
+/// record whose judgement fields ("violates_claim", "float_exact", "verdict_distance", its kind,
+/// "tolerance", "allowance") differ from what the judge says now. Records whose truth changed are left to
+/// `replay`. Returns the records rewritten.
+std::vector<Rejudged> rejudge(const std::filesystem::path& dir, const std::vector<Method>& methods);
+
 }  // namespace cullproof

@@ -129,6 +129,43 @@ std::string_view to_string(Witness::Kind k) noexcept;
 /// "euclidean", "margin", "clearance" or "none".
 std::string_view to_string(DistanceKind k) noexcept;
 
+/// How far a verdict lies from being the truth (docs/semantics.md "Forgiven means explained by
+/// rounding"): the smallest change of the case that makes the verdict given the truth. With
+/// s_j(x) = (n_j·x + d_j)/|n_j| the signed distance to plane j (planes with n != 0), the change
+/// is a shift of every plane by the same length (outward or inward, as rounding perturbs plane
+/// values); a shift of the volume never needs less (moving B by t changes each s_j by at most
+/// |t|). By the verdict given and the truth:
+///  - to_outside   (verdict outside; truth intersecting or inside): the depth
+///                 max_{x∈B} min_j s_j(x), how far the planes must move in before B misses F;
+///  - to_inside    (verdict inside; truth outside or intersecting): the protrusion
+///                 max_j max_{x∈B} -s_j(x), how far B reaches beyond its farthest plane;
+///  - to_meeting   (verdict intersecting; truth outside): minus the depth, how far the planes
+///                 must move out before they reach B;
+///  - to_leaving   (verdict intersecting; truth inside): the clearance min_j min_{x∈B} s_j(x),
+///                 how far in they must move before B is not inside.
+/// A verdict two classes away is thus measured across the whole volume, never by its nearness to
+/// the boundary alone.
+enum class VerdictShift : std::uint8_t { none, to_outside, to_inside, to_meeting, to_leaving };
+
+/// A proven lower bound on that distance. Boxes, OBBs and points: the protrusion and clearance
+/// are exact corner values over |n_j| in interval arithmetic; the depth is an exact LP over the
+/// box with |n_j| rounded up (the LP's optimum moves toward zero, never away). Balls: the
+/// protrusion and clearance likewise; the depth is certified by a point of the ball (a lower
+/// bound on the depth) or by multipliers λ ≥ 0 (Σ λ_j s_j over the ball bounds it from above),
+/// both evaluated in exact numbers and interval arithmetic. For boxes, OBBs and points the bound
+/// lies within a relative 2^-50 of the exact distance.
+struct VerdictDistance {
+  double distance = 0.0;  ///< 0 when the verdict is the truth; +infinity when no shift helps
+  VerdictShift shift = VerdictShift::none;
+  Visibility truth = Visibility::outside;
+};
+
+/// The distance from verdict `verdict` to the truth for v against f (see VerdictShift). Throws
+/// ValidationError for invalid input. Thread-safe.
+VerdictDistance distance_to_verdict(const CaseFrustum& f, const Volume& v, Visibility verdict);
+/// "none", "depth" (to_outside), "protrusion" (to_inside), "gap" (to_meeting), "clearance" (to_leaving).
+std::string_view to_string(VerdictShift s) noexcept;
+
 /// The independent exact method, used only to cross-check classify: exact rationals/integers,
 /// vertex enumeration of {t ∈ [-1,1]^3 : plane_j(c + Σ t_i e_i) ≥ 0} for boxes and points,
 /// closest-point enumeration over faces of F for spheres. No CGAL solver, no filter. Thread-safe.

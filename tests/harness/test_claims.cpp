@@ -1,6 +1,6 @@
 // Every method's claim (docs/semantics.md "Claims"), checked as stated against the exact oracle, on
 // every distribution: certified claims with no exception, conservative/exact claims with errors
-// allowed only within the method's documented tolerance (the oracle's exact distance decides).
+// allowed only within the method's documented tolerance of the verdict given (error_distance decides).
 // A published method whose claim the corpus already refutes is reported, not failed: its
 // refuting cases live in corpus/ and test_corpus checks that they still refute it. A new
 // refutation of any other method fails here with the exact counterexample.
@@ -45,7 +45,7 @@ std::string broken_claim(const CaseFrustum& frustum, const Volume& volume, bool 
     if (cls == ErrorClass::correct || m.claim == Claim::none) continue;
     const oracle::Result r = oracle::classify(frustum, volume, {true, true, false});
     const double scale = gen::case_scale(frustum, volume);
-    const double dist = error_distance(frustum, volume, cls, r.distance);
+    const double dist = error_distance(frustum, volume, *v);
     if (!violates_claim(m.claim, cls, dist, m.tolerance, scale, float_exact)) continue;
     if (refuted.count(m.name)) {
       ++reported[m.name];  // known: the corpus holds the evidence
@@ -53,7 +53,7 @@ std::string broken_claim(const CaseFrustum& frustum, const Volume& volume, bool 
     }
     return m.name + " (claim " + std::string(to_string(m.claim)) + ") says " + std::string(to_string(*v)) + ", truth " +
            std::string(to_string(truth)) + " (" + std::string(to_string(cls)) + "), exact distance " +
-           std::to_string(r.distance) + ", backward distance " + std::to_string(dist) + ", tolerance " +
+           std::to_string(r.distance) + ", distance to the verdict " + std::to_string(dist) + ", tolerance " +
            std::to_string(m.tolerance * scale);
   }
   return {};

@@ -1,12 +1,15 @@
 // ctest -L corpus: every committed corpus case replays. The truth recorded in the file is still
 // the oracle's (and the independent exact method's), and the method's recorded verdict still
-// reproduces (a fixed method must have its evidence moved out of the corpus deliberately).
+// reproduces (a fixed method must have its evidence moved out of the corpus deliberately). Every
+// record's judgement (whether it breaks its claim, its distance to the verdict given, the
+// allowance) is the judge's as it is now: a change to the judge is followed by `corpus rejudge`.
 #include "cullproof/corpus.hpp"
 #include "cullproof/oracle.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <unistd.h>
 
 using namespace cullproof;
 
@@ -33,6 +36,20 @@ TEST_P(Corpus, Replays) {
                             << (r.verdict_now ? std::string(to_string(*r.verdict_now)) : std::string("does not apply"));
   EXPECT_TRUE(r.regressed.empty()) << e.file << ": methods correct in the record and wrong now: "
                                    << ::testing::PrintToString(r.regressed);
+}
+
+TEST(CorpusJudgement, EveryRecordIsJudgedAsTheJudgeJudgesNow) {
+  // rejudge rewrites what it finds stale: on a copy, nothing may need rewriting.
+  const auto copy = std::filesystem::temp_directory_path() / ("cullproof-rejudge-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(copy);
+  std::filesystem::copy(CULLPROOF_CORPUS_DIR, copy, std::filesystem::copy_options::recursive);
+  const std::vector<Rejudged> stale = rejudge(copy, builtin_methods());
+  std::filesystem::remove_all(copy);
+  for (const Rejudged& r : stale)
+    ADD_FAILURE() << r.id << ": recorded judgement differs from the judge's now (violates_claim "
+                  << r.violated_before << " -> " << r.violates_now << ", distance to the verdict " << r.distance
+                  << ", allowance " << r.allowance << "); run `cullproof corpus rejudge`";
+  EXPECT_TRUE(stale.empty());
 }
 
 std::string test_name(const ::testing::TestParamInfo<std::filesystem::path>& info) {

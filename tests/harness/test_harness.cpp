@@ -50,6 +50,59 @@ TEST(Claims, RulesPerClaim) {
   EXPECT_FALSE(violates_claim(Claim::none, ErrorClass::false_reject, 0.0, 0.0, 1.0, true));
 }
 
+TEST(Claims, TheDistanceIsMeasuredOnlyWhereItDecides) {
+  // needs_distance is false exactly where violates_claim does not depend on the distance.
+  for (Claim c : {Claim::certified_conservative, Claim::certified_exact, Claim::conservative, Claim::exact, Claim::none})
+    for (ErrorClass e : {ErrorClass::correct, ErrorClass::false_reject, ErrorClass::false_inside,
+                         ErrorClass::false_intersect, ErrorClass::under_inside})
+      for (bool exact : {false, true}) {
+        const bool near = violates_claim(c, e, 0.0, 1e-5, 1.0, exact);
+        const bool far = violates_claim(c, e, 1.0, 1e-5, 1.0, exact);
+        EXPECT_EQ(needs_distance(c, e, exact), near != far) << to_string(c) << " " << to_string(e) << " " << exact;
+      }
+}
+
+// The judge forgives what rounding explains, measured toward the verdict given: a box 2^-21 from
+// the frustum (a boundary distance well inside a 1e-5 allowance) called inside is 0.375 from being
+// inside, and no rounding explains that; nor does it explain `outside` for a box resting 2^-21
+// inside a plane and reaching 0.5 in, or `inside` for one that penetrates by 2^-21 and protrudes by
+// 0.375. On the cube [-1, 1]^3; the extents of 0.1 make the plane sums round (1 + 0.1 is no
+// float), so the cases are not float-exact and the allowance applies.
+TEST(Claims, ErrorsTwoClassesAwayAreNotForgivenByNearnessToTheBoundary) {
+  Frustum f;
+  f[kLeft] = Plane{{1, 0, 0}, 1};
+  f[kRight] = Plane{{-1, 0, 0}, 1};
+  f[kBottom] = Plane{{0, 1, 0}, 1};
+  f[kTop] = Plane{{0, -1, 0}, 1};
+  f[kNear] = Plane{{0, 0, -1}, 1};
+  f[kFar] = Plane{{0, 0, 1}, 1};
+  const CaseFrustum cube = frustum_spec(f);
+  const float just = 0x1p-21f;
+  struct Pair {
+    Volume box;
+    Visibility verdict, truth;
+    double boundary, to_verdict;
+  };
+  const Pair pairs[] = {
+      {Aabb{{1 + just, -0.1f, -0.1f}, {1.375f, 0.1f, 0.1f}}, V::inside, V::outside, just, 0.375},
+      {Aabb{{0.5f, -0.1f, -0.1f}, {1 - just, 0.1f, 0.1f}}, V::outside, V::inside, just, 0.5},
+      {Aabb{{1 - just, -0.1f, -0.1f}, {1.375f, 0.1f, 0.1f}}, V::inside, V::intersecting, just, 0.375},
+  };
+  for (const Pair& p : pairs) {
+    const oracle::Result r = oracle::classify(cube, p.box);
+    ASSERT_EQ(r.truth, p.truth);
+    EXPECT_NEAR(r.distance, p.boundary, 1e-12);
+    const double d = error_distance(cube, p.box, p.verdict);
+    EXPECT_NEAR(d, p.to_verdict, 1e-7);
+    const ErrorClass e = error_class(p.verdict, p.truth);
+    const double scale = gen::case_scale(cube, p.box);
+    ASSERT_FALSE(gen::float_exact(cube, p.box));
+    EXPECT_FALSE(violates_claim(Claim::conservative, e, r.distance, 1e-5, scale, false))
+        << "measured to the boundary, the error would be forgiven";
+    EXPECT_TRUE(violates_claim(Claim::conservative, e, d, 1e-5, scale, false)) << "measured to the verdict, it is not";
+  }
+}
+
 TEST(Wilson, KnownIntervals) {
   auto [lo, hi] = wilson95(0, 10);
   EXPECT_EQ(lo, 0.0);
