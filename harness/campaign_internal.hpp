@@ -48,7 +48,8 @@ std::optional<Visibility> run_method(const Method& m, const GenCase& c);
 // ---- Shrinking (shrink.cpp)
 
 /// The simplest case of the Shrinkable tree on which `m` still makes an error of class `cls`
-/// (and, for a claim violation, still violates the claim), within `budget` steps.
+/// (and, for a claim violation, still violates the claim, by as many allowances as the error
+/// found, up to 1,000), within `budget` steps.
 GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, bool violation, int budget);
 
 /// A stateful method's error on a camera path: the object alone if the error stays without the

@@ -3,6 +3,7 @@
 
 #include "cullproof/oracle.hpp"
 
+#include <algorithm>
 #include <limits>
 
 namespace cullproof::detail {
@@ -11,7 +12,30 @@ std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
   return checked_classify(m, c.frustum, c.volume);
 }
 
+namespace {
+
+// How many allowances an error lies from the verdict it was given (+infinity where the claim
+// forgives nothing at any distance: no tolerance, or a float-exact case).
+double allowances(const GenCase& c, const Method& m, ErrorClass cls, Visibility verdict) {
+  const bool exact_case = gen::float_exact(c.frustum, c.volume);
+  if (!needs_distance(m.claim, cls, exact_case)) return std::numeric_limits<double>::infinity();
+  const double allowance = m.tolerance * gen::case_scale(c.frustum, c.volume);
+  if (!(allowance > 0.0)) return std::numeric_limits<double>::infinity();
+  return error_distance(c.frustum, c.volume, verdict) / allowance;
+}
+
+}  // namespace
+
 GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, bool violation, int budget) {
+  // A claim violation shrinks only to claim violations that stay as far beyond the allowance as the
+  // error found was, up to kKeptAllowances of it: simpler numbers, not a smaller error, so that a
+  // shrunk case of a gross bug never reads as rounding noise.
+  constexpr double kKeptAllowances = 1000.0;
+  double keep = 0.0;
+  if (violation) {
+    const GenCase& c = start.value();
+    if (const auto v = run_method(m, c)) keep = std::min(allowances(c, m, cls, *v), kKeptAllowances);
+  }
   rc::Shrinkable<gen::GenCase> cur = start;
   bool progress = true;
   while (progress && budget > 0) {
@@ -25,13 +49,14 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
         const auto v = run_method(m, c);
         if (!v) continue;
         if (error_class(*v, oracle::truth(c.frustum, c.volume), m.three_way) != cls) continue;
-        // A claim violation must shrink to a claim violation, judged as the run judges it: its
-        // distance from the verdict given beyond the allowance (not to a rounding-level error).
+        // Judged as the run judges it: beyond the allowance (its distance from the verdict given),
+        // and by as many allowances as `keep`.
         if (violation) {
           const bool exact_case = gen::float_exact(c.frustum, c.volume);
           const double dist = needs_distance(m.claim, cls, exact_case) ? error_distance(c.frustum, c.volume, *v)
                                                                         : std::numeric_limits<double>::infinity();
           if (!violates_claim(m.claim, cls, dist, m.tolerance, gen::case_scale(c.frustum, c.volume), exact_case)) continue;
+          if (allowances(c, m, cls, *v) < keep) continue;
         }
         {
           cur = *next;

@@ -5,18 +5,26 @@
 //    (the distributions before it in full, and its cases up to the first failure), and the
 //    seconds those cases take (measured: the earlier distributions run in full, then the
 //    failing one up to its first failure);
-//  - the test helper's default budget (every distribution in order, 2,000 cases each): the same.
+//  - the test helper's default budget (every distribution in order, 2,000 cases each): the same;
+//  - the claim-breaking cases that budget writes to a corpus on seed 1, shrunk: how far each lies
+//    from the verdict it was given (error_distance) in units of its allowance, the smallest, and
+//    how far from the frustum's boundary, the smallest (an allowance measured to the boundary
+//    would forgive a case whose boundary distance is within it).
 // Medians over the seeds; a mutant that survives a seed is counted as surviving. Controls are run
 // the same way and must never be flagged. Prints the markdown table of docs/mutation.md.
 #include "mutants.hpp"
 
 #include "cullproof/campaign.hpp"
+#include "cullproof/corpus.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
+#include <limits>
+#include <unistd.h>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -89,6 +97,7 @@ std::vector<FirstFailure> first_failures(const std::vector<Method>& ms, std::uin
   return f;
 }
 
+
 template <class T>
 T median(std::vector<T> v) {
   std::sort(v.begin(), v.end());
@@ -116,6 +125,52 @@ std::string summary(const std::vector<FirstFailure>& runs) {
   return fmt::format("{} | {} | {:.3f}", head, median(cases), median(secs));
 }
 
+
+// The shrunk claim-breaking cases of every culler (the test helper's budget, seed 1, with a corpus):
+// per culler, "N (K float-exact): median M, fewest F (family) / B": the median and the fewest
+// allowances from the verdict given over the others, and the fewest from the boundary.
+std::vector<std::string> shrunk_sizes(const std::vector<Method>& ms, const std::vector<gen::Distribution>& order) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-mutation-table-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  VerifyOptions o = base(1, 2000);
+  o.distributions = order;
+  o.corpus = dir;
+  run_verify(o, ms);
+  std::vector<std::string> out;
+  const std::vector<CorpusEntry> corpus = load_corpus(dir);
+  for (const Method& m : ms) {
+    std::size_t n = 0, exact = 0;
+    std::vector<double> ratios;
+    double fewest = std::numeric_limits<double>::infinity(), boundary = fewest;
+    std::string fewest_family;
+    for (const CorpusEntry& e : corpus) {
+      const auto& x = e.c.extra;
+      if (e.method != m.name || !x.value("violates_claim", false)) continue;
+      ++n;
+      const double allowance = x.value("allowance", 0.0);
+      if (!(allowance > 0.0)) {
+        ++exact;
+        continue;
+      }
+      const auto number = [&](const char* k) {
+        return x.contains(k) && x[k].is_number() ? x[k].get<double>() : std::numeric_limits<double>::infinity();
+      };
+      const double r = number("verdict_distance") / allowance;
+      ratios.push_back(r);
+      if (r < fewest) fewest = r, fewest_family = e.distribution;
+      boundary = std::min(boundary, number("distance") / allowance);
+    }
+    if (n == 0) out.push_back("-");
+    else if (ratios.empty()) out.push_back(fmt::format("{}, all float-exact (no allowance)", n));
+    else
+      out.push_back(fmt::format("{}{}: median {:.3g}, fewest {:.3g} ({}) / {:.3g}", n,
+                                exact ? fmt::format(" ({} float-exact)", exact) : "", median(ratios), fewest,
+                                fewest_family, boundary));
+  }
+  std::filesystem::remove_all(dir);
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -125,7 +180,8 @@ int main(int argc, char** argv) {
   const std::vector<gen::Distribution> verify_order = gen::generic_distributions();
   const std::vector<gen::Distribution> helper_order = gen::no_overflow_distributions();
   std::cout << "| culler | defect | default `cullproof verify`: caught by | cases to first failure | seconds | "
-               "test helper: caught by | cases | seconds |\n|---|---|---|---:|---:|---|---:|---:|\n";
+               "test helper: caught by | cases | seconds | shrunk cases (seed 1): allowances from the verdict / fewest from the boundary |\n"
+               "|---|---|---|---:|---:|---|---:|---:|---|\n";
   std::size_t mutants = 0, refuted = 0, controls_flagged = 0;
   const std::vector<mutants::Mutant> all = mutants::all();
   std::vector<Method> ms;
@@ -137,14 +193,16 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < all.size(); ++k) v[k].push_back(fv[k]), h[k].push_back(fh[k]);
     std::cerr << "seed " << s << " done\n";
   }
+  const std::vector<std::string> shrunk = shrunk_sizes(ms, helper_order);
   for (std::size_t k = 0; k < all.size(); ++k) {
     const mutants::Mutant& m = all[k];
     bool all_v = true, all_h = true, any = false;
     for (const auto& f : v[k]) all_v = all_v && f.found, any = any || f.found;
     for (const auto& f : h[k]) all_h = all_h && f.found, any = any || f.found;
     const std::string name = m.control ? "control `" + m.method.name + "`" : "`" + m.method.name + "`";
-    std::cout << fmt::format("| {} | {} | {} | {} |\n", name, m.defect, m.control && !any ? "never flagged | - | -" : summary(v[k]),
-                             m.control && !any ? "never flagged | - | -" : summary(h[k]));
+    std::cout << fmt::format("| {} | {} | {} | {} | {} |\n", name, m.defect,
+                             m.control && !any ? "never flagged | - | -" : summary(v[k]),
+                             m.control && !any ? "never flagged | - | -" : summary(h[k]), shrunk[k]);
     if (m.control) {
       controls_flagged += any;
     } else {

@@ -11,6 +11,10 @@
 // BM_OracleExactRoute: the exact route only (filter off; no distance, no witness JSON).
 // BM_OracleFull: classify() with witness JSON and exact distance (what `cullproof classify` runs).
 // BM_OracleIndependent: the independent cross-check method.
+// BM_VerdictDistance: distance_to_verdict (what the judge measures for a wrong verdict), per
+//   verdict given (second argument: 0 outside, 1 intersecting, 2 inside), on the OBBs, and on
+//   balls of the OBB's centre and half-diagonal (third argument 1); a case whose truth is the
+//   verdict costs only its truth.
 // Counters: fallback_fraction = fallbacks / calls of the filter over the benchmark's calls.
 #include "cullproof/oracle.hpp"
 
@@ -18,6 +22,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <random>
+#include <string>
 #include <vector>
 
 namespace {
@@ -115,10 +120,25 @@ void BM_OracleIndependent(benchmark::State& state) {
   run(state, [](const BenchCase& c) { return oracle::classify_independent(c.frustum, c.volume); });
 }
 
+void BM_VerdictDistance(benchmark::State& state) {
+  const auto verdict = static_cast<Visibility>(state.range(1));
+  const bool ball = state.range(2) != 0;
+  run(state, [&](const BenchCase& c) {
+    if (!ball) return oracle::distance_to_verdict(c.frustum, c.volume, verdict).distance;
+    const Obb& o = std::get<Obb>(c.volume);
+    return oracle::distance_to_verdict(c.frustum, Sphere{o.center, glm::length(o.half)}, verdict).distance;
+  });
+  state.SetLabel(std::string(state.range(0) ? "matrix" : "planes") + (ball ? ", balls" : ", OBBs"));
+}
+
 // Each is run with 4096 x k iterations so every case is visited equally often.
 BENCHMARK(BM_OracleFiltered)->Arg(0)->Arg(1)->Iterations(4096 * 20)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OracleExactRoute)->Arg(0)->Arg(1)->Iterations(4096 * 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OracleFull)->Arg(0)->Arg(1)->Iterations(4096 * 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OracleIndependent)->Arg(0)->Arg(1)->Iterations(4096)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_VerdictDistance)
+    ->ArgsProduct({{0, 1}, {0, 1, 2}, {0, 1}})
+    ->Iterations(4096)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

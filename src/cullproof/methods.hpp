@@ -91,9 +91,10 @@ struct MethodInfo {
   /// is 0, and refuses a kind that classify cannot take.
   unsigned volumes = 0;
   std::string touching;     ///< how a volume touching a plane is classified
-  /// For `conservative` / `exact` claims: float errors are allowed only on cases whose exact
-  /// distance to the frustum boundary is at most `tolerance` times the case's scale (what the
-  /// plane evaluations round, in distance units; gen::case_scale). 0 for certified claims.
+  /// For `conservative` / `exact` claims: float errors are allowed only on cases within
+  /// `tolerance` times the case's scale (what the plane evaluations round, in distance units;
+  /// gen::case_scale) of a case for which the verdict given is the truth (the distance is
+  /// measured toward that verdict: oracle::distance_to_verdict). 0 for certified claims.
   double tolerance = 0.0;
   /// Whether the method can answer `inside`. A two-way method answers visible (`intersecting`)
   /// or `outside` only; it is never charged with under-insides, and answering `inside` is a

@@ -70,12 +70,12 @@ TEST(Claims, TheDistanceIsMeasuredOnlyWhereItDecides) {
 // float), so the cases are not float-exact and the allowance applies.
 TEST(Claims, ErrorsTwoClassesAwayAreNotForgivenByNearnessToTheBoundary) {
   Frustum f;
-  f[kLeft] = Plane{{1, 0, 0}, 1};
-  f[kRight] = Plane{{-1, 0, 0}, 1};
-  f[kBottom] = Plane{{0, 1, 0}, 1};
-  f[kTop] = Plane{{0, -1, 0}, 1};
-  f[kNear] = Plane{{0, 0, -1}, 1};
-  f[kFar] = Plane{{0, 0, 1}, 1};
+  for (int a = 0; a < 3; ++a) {  // x >= -1, x <= 1, y >= -1, y <= 1, z >= -1, z <= 1
+    glm::vec3 n(0.0f);
+    n[a] = 1.0f;
+    f[2 * a] = Plane{n, 1};
+    f[2 * a + 1] = Plane{-n, 1};
+  }
   const CaseFrustum cube = frustum_spec(f);
   const float just = 0x1p-21f;
   struct Pair {

@@ -36,7 +36,14 @@ struct PnKnobs {
   int planes = kPlaneCount;         // planes tested (5: the far plane forgotten)
   float reject_below = 0.0f;        // rejects when the p-vertex value is below this
   bool inside_from_p_vertex = false;
+  // Slacks relative to the magnitude of what a plane's evaluation adds (|n|.|x| + |d|), below the
+  // rounding allowance of the boundary distance, far above float rounding:
+  float skip_if_just_outside = 0.0f;  // a p-vertex this close outside: the plane skipped
+  float skip_if_barely_in = 0.0f;     // a p-vertex this close inside: the plane skipped
+  float reject_if_just_in = 0.0f;     // an n-vertex this close inside: rejected
 };
+
+float magnitude(const Plane& p, const glm::vec3& x) { return glm::dot(glm::abs(p.n), glm::abs(x)) + std::abs(p.d); }
 
 V pn(const Frustum& f, const Aabb& b, const PnKnobs& k = {}) {
   bool inside = true;
@@ -49,6 +56,11 @@ V pn(const Frustum& f, const Aabb& b, const PnKnobs& k = {}) {
     }
     if (k.p_vertex_y_from_min) pv.y = b.min.y;  // BUG (p-vertex-y-from-min)
     const float vp = p.eval(pv);
+    // BUG (near-outside-inside, barely-in-inside): "on the plane within epsilon", the plane skipped.
+    if (vp < 0.0f && vp >= -k.skip_if_just_outside * magnitude(p, pv)) continue;
+    if (vp > 0.0f && vp <= k.skip_if_barely_in * magnitude(p, pv)) continue;
+    // BUG (near-inside-outside): a box resting just inside a plane read as lying beyond it.
+    if (const float vn = p.eval(nv); vn > 0.0f && vn <= k.reject_if_just_in * magnitude(p, nv)) return V::outside;
     if (k.reject_touching ? vp <= 0.0f : vp < k.reject_below) return V::outside;  // BUG (reject-touching, epsilon)
     if (!k.inside_from_p_vertex && p.eval(nv) < 0.0f) inside = false;
   }
@@ -247,6 +259,27 @@ std::vector<Mutant> all() {
     PnKnobs k;
     k.inside_from_p_vertex = true;
     bug(pn_method("inside-from-p-vertex", k), "inside decided from the p-vertices (the n-vertices never tested)");
+  }
+  {
+    PnKnobs k;
+    k.skip_if_just_outside = 0x1p-21f;
+    bug(pn_method("near-outside-inside", k),
+        "a plane whose p-vertex lies within a relative 2^-21 outside it is skipped: a box just outside one plane "
+        "and inside the others is called inside (two classes from the truth, only near the boundary)");
+  }
+  {
+    PnKnobs k;
+    k.reject_if_just_in = 0x1p-21f;
+    bug(pn_method("near-inside-outside", k),
+        "a box whose n-vertex lies within a relative 2^-21 inside a plane is rejected: a box resting on a plane "
+        "from inside is culled (two classes from the truth, only near the boundary)");
+  }
+  {
+    PnKnobs k;
+    k.skip_if_barely_in = 0x1p-21f;
+    bug(pn_method("barely-in-inside", k),
+        "a plane whose p-vertex lies within a relative 2^-21 inside it is skipped: a box that barely penetrates "
+        "one plane and protrudes far beyond it is called inside");
   }
   bug(make_method(info("zero-normal-nan"), [](const CaseFrustum& f) { return normalise(f.planes, false); },
                   [](const Frustum& f, const Aabb& b) {

@@ -66,6 +66,11 @@ TEST_P(Mutation, IsRefutedOrHolds) {
     for (const CorpusEntry& e : load_corpus(dir))
       kept += e.method == m.method.name && e.c.extra.at("violates_claim").get<bool>();
     EXPECT_GT(kept, 0u) << "no claim-breaking case written under " << dir;
+    // Every record is judged as the judge judges it (its distance from the verdict given beyond
+    // its allowance, after shrinking as before).
+    for (const Rejudged& stale : rejudge(dir, {method}))
+      ADD_FAILURE() << stale.id << ": recorded judgement is stale (violates " << stale.violated_before << " -> "
+                    << stale.violates_now << ", distance " << stale.distance << ", allowance " << stale.allowance << ")";
   }
   std::filesystem::remove_all(dir);
 }
