@@ -373,8 +373,8 @@ VerdictDistance verdict_distance(const CaseFrustum& f, const Volume& v, Visibili
   I depth;
   if (point) {  // min_j s_j(c), directly
     CGAL::Protect_FPU_rounding<true> guard;
-    depth = I(kInf);
-    for (std::size_t j = 0; j < planes.size(); ++j) depth = CGAL::min(depth, iv(rows.a[j][0]) / planes[j].len);
+    depth = iv(rows.a[0][0]) / planes[0].len;  // an interval holds no infinity: start from a plane
+    for (std::size_t j = 1; j < planes.size(); ++j) depth = CGAL::min(depth, iv(rows.a[j][0]) / planes[j].len);
   } else {
     depth = iv(box_depth_lp(planes, rows));
   }
