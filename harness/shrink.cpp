@@ -14,14 +14,24 @@ std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
 
 namespace {
 
-// How many allowances an error lies from the verdict it was given (+infinity where the claim
-// forgives nothing at any distance: no tolerance, or a float-exact case).
-double allowances(const GenCase& c, const Method& m, ErrorClass cls, Visibility verdict) {
+// An error of class `cls` judged as the run judges it: whether it breaks m's claim, and how many
+// allowances it lies from the verdict it was given (+infinity where the claim forgives nothing at
+// any distance: no tolerance, or a float-exact case). The distance is measured once.
+struct Judged {
+  bool violates = false;
+  double allowances = std::numeric_limits<double>::infinity();
+};
+
+Judged judge(const GenCase& c, const Method& m, ErrorClass cls, Visibility verdict) {
   const bool exact_case = gen::float_exact(c.frustum, c.volume);
-  if (!needs_distance(m.claim, cls, exact_case)) return std::numeric_limits<double>::infinity();
-  const double allowance = m.tolerance * gen::case_scale(c.frustum, c.volume);
-  if (!(allowance > 0.0)) return std::numeric_limits<double>::infinity();
-  return error_distance(c.frustum, c.volume, verdict) / allowance;
+  const double scale = gen::case_scale(c.frustum, c.volume);
+  const bool measured = needs_distance(m.claim, cls, exact_case);
+  const double dist = measured ? error_distance(c.frustum, c.volume, verdict) : std::numeric_limits<double>::infinity();
+  Judged j;
+  j.violates = violates_claim(m.claim, cls, dist, m.tolerance, scale, exact_case);
+  const double allowance = m.tolerance * scale;
+  if (measured && allowance > 0.0) j.allowances = dist / allowance;
+  return j;
 }
 
 }  // namespace
@@ -34,7 +44,7 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
   double keep = 0.0;
   if (violation) {
     const GenCase& c = start.value();
-    if (const auto v = run_method(m, c)) keep = std::min(allowances(c, m, cls, *v), kKeptAllowances);
+    if (const auto v = run_method(m, c)) keep = std::min(judge(c, m, cls, *v).allowances, kKeptAllowances);
   }
   rc::Shrinkable<gen::GenCase> cur = start;
   bool progress = true;
@@ -52,11 +62,8 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
         // Judged as the run judges it: beyond the allowance (its distance from the verdict given),
         // and by as many allowances as `keep`.
         if (violation) {
-          const bool exact_case = gen::float_exact(c.frustum, c.volume);
-          const double dist = needs_distance(m.claim, cls, exact_case) ? error_distance(c.frustum, c.volume, *v)
-                                                                        : std::numeric_limits<double>::infinity();
-          if (!violates_claim(m.claim, cls, dist, m.tolerance, gen::case_scale(c.frustum, c.volume), exact_case)) continue;
-          if (allowances(c, m, cls, *v) < keep) continue;
+          const Judged j = judge(c, m, cls, *v);
+          if (!j.violates || j.allowances < keep) continue;
         }
         {
           cur = *next;
