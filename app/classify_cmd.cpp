@@ -4,9 +4,9 @@
 // and line.
 #include "commands.hpp"
 
-#include "cullproof/case_io.hpp"
+#include "cullproof/io/case_io.hpp"
 #ifdef CULLPROOF_HAVE_ORACLE
-#include "cullproof/oracle.hpp"
+#include "cullproof/oracle/oracle.hpp"
 #endif
 
 #include <nlohmann/json.hpp>

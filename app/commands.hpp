@@ -1,8 +1,10 @@
-// The program's subcommands. Each adds its options to the CLI11 app, bound to the fields of its
-// struct (which must outlive the parse), and runs from them; main.cpp only parses and dispatches.
+// The program's subcommands, every option declared once: each subcommand adds its options to the
+// CLI11 app, bound to the fields of its struct (which must outlive the parse), and runs from them;
+// main.cpp only parses and dispatches. The options of a verification run (RunOptions) serve
+// `verify` and `report` alike.
 #pragma once
 
-#include "cullproof/methods.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -11,7 +13,10 @@
 #include <vector>
 
 #ifdef CULLPROOF_HAVE_ORACLE
-#include "cullproof/campaign.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#endif
+#ifdef CULLPROOF_HAVE_SIM
+#include "cullproof/sim/simulate.hpp"
 #endif
 
 namespace cullproof::app {
@@ -48,14 +53,34 @@ void add_classify(CLI::App& app, ClassifyCommand& c);
 int run_classify_command(const ClassifyCommand& c, const ExternalProgram& external);
 
 #ifdef CULLPROOF_HAVE_ORACLE
+/// Cases per distribution at most: a run keeps about 330 bytes a case, 3.3 GB at the limit (a
+/// hundred times the default).
+inline constexpr std::uint64_t kMaxCases = 10000000;
+inline constexpr int kMaxThreads = 1024;  ///< worker threads (0: all cores)
+
+/// What a verification run draws and runs: --cases, --seed, --distribution, --method, --threads,
+/// --no-progress (`verify`, and `report` when it runs one).
+struct RunOptions {
+  std::uint64_t cases = VerifyOptions{}.cases, seed = VerifyOptions{}.seed;
+  std::vector<std::string> distributions, methods;
+  int threads = 0;
+  bool no_progress = false;
+  /// Adds the options to cmd; `lead` begins each description ("Run: " where the run is optional).
+  void add_options(CLI::App* cmd, const std::string& lead = "");
+  /// The run's VerifyOptions (distributions parsed, each once, in the order named; the campaign's
+  /// default when none is named); std::invalid_argument for an unknown distribution.
+  VerifyOptions verify_options() const;
+  /// The `cullproof verify` command line that runs the same.
+  std::string command() const;
+};
+
 /// `verify ...`: the side-by-side run.
 struct VerifyCommand {
   CLI::App* cmd = nullptr;
   CLI::Option* index_option = nullptr;
-  VerifyOptions options;
-  std::vector<std::string> distributions;
+  RunOptions run;
   std::string json_file, corpus_dir = "corpus";
-  bool no_corpus = false, no_progress = false;
+  bool no_corpus = false;
   std::uint64_t index = 0;
 };
 void add_verify(CLI::App& app, VerifyCommand& c, ExternalProgram& external);
@@ -70,6 +95,35 @@ struct CorpusCommand {
 };
 void add_corpus(CLI::App& app, CorpusCommand& c, ExternalProgram& external);
 int run_corpus_command(const CorpusCommand& c, const ExternalProgram& external);
+#endif
+
+#ifdef CULLPROOF_HAVE_REPORT
+/// `report [--from FILE | the run's options] [--out FILE] [--json FILE] [--corpus DIR | --no-corpus]`.
+struct ReportCommand {
+  CLI::App* cmd = nullptr;
+  std::string from;                 ///< a `cullproof verify --json` result; empty: run one
+  std::string out = "report.html";  ///< the page
+  std::string json;                 ///< where the run's JSON goes as well (when report runs it)
+  std::string corpus = "corpus";    ///< the corpus shown (and written by a run)
+  bool no_corpus = false;           ///< neither write nor show a corpus
+  RunOptions run;                   ///< the run, when there is no --from
+};
+void add_report(CLI::App& app, ReportCommand& c);
+/// 0 when the page is written (and, for a run, no claim of an own or user method broke: then 1,
+/// as `verify`); 2 for bad input or missing page scripts.
+int run_report_command(const ReportCommand& c);
+#endif
+
+#ifdef CULLPROOF_HAVE_SIM
+/// `simulate SCENE... [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1] ...`.
+struct SimulateCommand {
+  CLI::App* cmd = nullptr;
+  sim::SimulateOptions options;
+};
+void add_simulate(CLI::App& app, SimulateCommand& c);
+/// Prints the scene, the optimisations enabled and why the others are not, the per-configuration
+/// totals; exit status 1 when any false reject or false inside was found, 2 for a bad scene.
+int run_simulate_command(const SimulateCommand& c);
 #endif
 
 }  // namespace cullproof::app

@@ -1,11 +1,11 @@
-// `cullproof corpus`: list, show, replay and rerecord the mismatch corpus (harness/corpus.cpp).
+// `cullproof corpus`: list, show, replay and rerecord the mismatch corpus (src/campaign/corpus.cpp).
 #include "commands.hpp"
 
-#include "cullproof/case_io.hpp"
-#include "cullproof/corpus.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/oracle/oracle.hpp"
 #ifdef CULLPROOF_HAVE_REPORT
-#include "cullproof/case_view.hpp"
+#include "cullproof/report/case_view.hpp"
 #endif
 
 #include <glm/glm.hpp>

@@ -2,7 +2,7 @@
 // and corpus replay alike: its options, and the methods of a run.
 #include "commands.hpp"
 
-#include "cullproof/external.hpp"
+#include "cullproof/protocol/external.hpp"
 
 #include <algorithm>
 #include <chrono>

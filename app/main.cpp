@@ -9,16 +9,12 @@
 //   cullproof report [--from FILE | verify's options] [--out FILE] [--corpus DIR | --no-corpus]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
 //
-// Each subcommand lives in its own file (commands.hpp); this one parses and dispatches.
+// Each subcommand lives in its own file and declares its options there (commands.hpp); this one
+// parses and dispatches. The oracle's subcommands, the report and the simulator are built when
+// their libraries are (the CULLPROOF_HAVE_* definitions, app/CMakeLists.txt).
 #include "commands.hpp"
 
-#include "cullproof/case_io.hpp"
-#ifdef CULLPROOF_HAVE_SIM
-#include "cullproof/simulate_cli.hpp"
-#endif
-#ifdef CULLPROOF_HAVE_REPORT
-#include "cullproof/report_cli.hpp"
-#endif
+#include "cullproof/io/case_io.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -26,8 +22,11 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <functional>
 #include <iostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 using namespace cullproof;
 using namespace cullproof::app;
@@ -36,26 +35,34 @@ static int run(int argc, char** argv) {
   CLI::App app{"cullproof: proves view-frustum culling correct and shows what correctness costs"};
   app.require_subcommand(1);
   ExternalProgram external;
+  // Each subcommand: its parsed command and how it runs.
+  std::vector<std::pair<CLI::App**, std::function<int()>>> commands;
   MethodsCommand methods;
   add_methods(app, methods);
+  commands.emplace_back(&methods.cmd, [&] { return run_methods_command(methods); });
   ClassifyCommand classify;
   add_classify(app, classify);
+  commands.emplace_back(&classify.cmd, [&] { return run_classify_command(classify, external); });
 #ifdef CULLPROOF_HAVE_ORACLE
   VerifyCommand verify;
   add_verify(app, verify, external);
+  commands.emplace_back(&verify.cmd, [&] { return run_verify_command(verify, external); });
   CorpusCommand corpus;
   add_corpus(app, corpus, external);
+  commands.emplace_back(&corpus.cmd, [&] { return run_corpus_command(corpus, external); });
 #endif
 #ifdef CULLPROOF_HAVE_SIM
-  cullproof::sim::SimulateOptions sim_opt;
-  auto* simulate_cmd = cullproof::sim::add_simulate_subcommand(app, sim_opt);
+  SimulateCommand simulate;
+  add_simulate(app, simulate);
+  commands.emplace_back(&simulate.cmd, [&] { return run_simulate_command(simulate); });
 #endif
 #ifdef CULLPROOF_HAVE_ORACLE
   external.add_options(classify.cmd);
 #endif
 #ifdef CULLPROOF_HAVE_REPORT
-  report::ReportOptions report_opt;
-  auto* report_cmd = report::add_report_subcommand(app, report_opt);
+  ReportCommand report;
+  add_report(app, report);
+  commands.emplace_back(&report.cmd, [&] { return run_report_command(report); });
 #endif
 
   // Everything after the first '--' is the external program's command line, taken before the
@@ -68,18 +75,8 @@ static int run(int argc, char** argv) {
     }
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*methods.cmd) return run_methods_command(methods);
-    if (*classify.cmd) return run_classify_command(classify, external);
-#ifdef CULLPROOF_HAVE_SIM
-    if (*simulate_cmd) return cullproof::sim::run_simulate_command(sim_opt);
-#endif
-#ifdef CULLPROOF_HAVE_REPORT
-    if (*report_cmd) return report::run_report_command(report_opt);
-#endif
-#ifdef CULLPROOF_HAVE_ORACLE
-    if (*verify.cmd) return run_verify_command(verify, external);
-    if (*corpus.cmd) return run_corpus_command(corpus, external);
-#endif
+    for (const auto& [cmd, run_command] : commands)
+      if (**cmd) return run_command();
   } catch (const CaseError& e) {
     std::cerr << "cullproof: " << e.what() << "\n";
     return 2;

@@ -1,15 +1,17 @@
-// `cullproof verify`: the side-by-side verification run (harness/campaign.cpp), its tables, its
+// `cullproof verify`: the side-by-side verification run (src/campaign/campaign.cpp), its tables, its
 // JSON and its corpus.
 #include "commands.hpp"
 
-#include "cullproof/case_io.hpp"
-#include "cullproof/cli_checks.hpp"
-#include "cullproof/corpus.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/io/files.hpp"
+#include "cli_checks.hpp"
+#include "cullproof/campaign/corpus.hpp"
 #ifdef CULLPROOF_HAVE_REPORT
-#include "cullproof/summary.hpp"
+#include "cullproof/report/summary.hpp"
 #endif
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -19,23 +21,9 @@ namespace cullproof::app {
 
 namespace {
 
-// Ranges of the numeric options: CLI11 refuses a value outside, naming the option and the range,
-// before anything runs (seed and index take any 64-bit unsigned value).
-/// Cases per distribution: a run keeps about 330 bytes a case, 3.3 GB at the limit (a hundred
-/// times the default).
-constexpr std::uint64_t kMaxCases = 10000000;
-constexpr int kMaxThreads = 1024;  ///< worker threads (0: all cores)
 constexpr std::uint64_t kMaxUnsigned = std::numeric_limits<std::uint64_t>::max();
 
-int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const std::string& json_file,
-               const std::vector<Method>& methods) {
-  if (!dists.empty()) {
-    opt.distributions.clear();
-    for (const std::string& d : dists)
-      for (gen::Distribution x : gen::parse_distributions(d))
-        if (std::find(opt.distributions.begin(), opt.distributions.end(), x) == opt.distributions.end())
-          opt.distributions.push_back(x);
-  }
+int cmd_verify(const VerifyOptions& opt, const std::string& json_file, const std::vector<Method>& methods) {
   VerifyResult r;
   try {
     r = run_verify(opt, methods);
@@ -59,38 +47,73 @@ int cmd_verify(VerifyOptions opt, const std::vector<std::string>& dists, const s
   return 0;
 }
 
+// A description with `lead` before it, its first letter lower case after a lead.
+std::string described(const std::string& lead, std::string text) {
+  if (!lead.empty() && !text.empty()) text[0] = char(std::tolower(static_cast<unsigned char>(text[0])));
+  return lead + text;
+}
+
 }  // namespace
 
-void add_verify(CLI::App& app, VerifyCommand& c, ExternalProgram& external) {
-  VerifyOptions& vopt = c.options;
-  CLI::App* verify_cmd = c.cmd =
-      app.add_subcommand("verify", "The side-by-side verification run: every method and the oracle on generated cases");
-  verify_cmd->add_option("--cases", vopt.cases, "Cases per distribution")
+// Ranges of the numeric options: CLI11 refuses a value outside, naming the option and the range,
+// before anything runs (seed and index take any 64-bit unsigned value).
+void RunOptions::add_options(CLI::App* cmd, const std::string& lead) {
+  cmd->add_option("--cases", cases, described(lead, "Cases per distribution"))
       ->capture_default_str()
       ->check(cli::UnsignedRange(1, kMaxCases));
-  verify_cmd->add_option("--seed", vopt.seed, "Seed: the same seed gives the same cases and verdicts")
+  cmd->add_option("--seed", seed, described(lead, "Seed: the same seed gives the same cases and verdicts"))
       ->capture_default_str()
       ->check(cli::UnsignedRange(0, kMaxUnsigned));
-  verify_cmd->add_option("--distribution,-d", c.distributions, "Distributions (repeatable; 'all', 'all-generic', 'all-hard')");
-  verify_cmd->add_option("--method,-m", vopt.methods, "Methods (repeatable; default: all)");
-  verify_cmd->add_option("--threads", vopt.threads, "Worker threads (0: all cores)")
+  cmd->add_option("--distribution,-d", distributions,
+                  described(lead, "Distributions (repeatable; 'all', 'all-generic', 'all-hard')"));
+  cmd->add_option("--method,-m", methods, described(lead, "Methods (repeatable; default: all)"));
+  cmd->add_option("--threads", threads, described(lead, "Worker threads (0: all cores)"))
       ->capture_default_str()
       ->check(CLI::Range(0, kMaxThreads));
-  verify_cmd->add_option("--corpus", c.corpus_dir, "Write new mismatches under DIR")->capture_default_str();
-  verify_cmd->add_flag("--no-corpus", c.no_corpus, "Do not write the corpus");
-  verify_cmd->add_option("--json", c.json_file, "Write the whole result as JSON to FILE");
-  c.index_option = verify_cmd->add_option("--index", c.index, "Run only case INDEX of each distribution (reproduce)")
+  cmd->add_flag("--no-progress", no_progress, "No progress bar");
+}
+
+VerifyOptions RunOptions::verify_options() const {
+  VerifyOptions v;
+  v.cases = cases;
+  v.seed = seed;
+  v.methods = methods;
+  v.threads = threads;
+  v.progress = !no_progress;
+  if (!distributions.empty()) {
+    v.distributions.clear();
+    for (const std::string& d : distributions)
+      for (gen::Distribution x : gen::parse_distributions(d))
+        if (std::find(v.distributions.begin(), v.distributions.end(), x) == v.distributions.end())
+          v.distributions.push_back(x);
+  }
+  return v;
+}
+
+std::string RunOptions::command() const {
+  std::string c = "cullproof verify --cases " + std::to_string(cases) + " --seed " + std::to_string(seed);
+  for (const auto& d : distributions) c += " -d " + d;
+  for (const auto& m : methods) c += " -m " + m;
+  return c;
+}
+
+void add_verify(CLI::App& app, VerifyCommand& c, ExternalProgram& external) {
+  CLI::App* cmd = c.cmd =
+      app.add_subcommand("verify", "The side-by-side verification run: every method and the oracle on generated cases");
+  c.run.add_options(cmd);
+  cmd->add_option("--corpus", c.corpus_dir, "Write new mismatches under DIR")->capture_default_str();
+  cmd->add_flag("--no-corpus", c.no_corpus, "Do not write the corpus");
+  cmd->add_option("--json", c.json_file, "Write the whole result as JSON to FILE");
+  c.index_option = cmd->add_option("--index", c.index, "Run only case INDEX of each distribution (reproduce)")
                        ->check(cli::UnsignedRange(0, kMaxUnsigned));
-  external.add_options(verify_cmd);
-  verify_cmd->add_flag("--no-progress", c.no_progress, "No progress bar");
+  external.add_options(cmd);
 }
 
 int run_verify_command(VerifyCommand& c, const ExternalProgram& external) {
-  VerifyOptions& vopt = c.options;
+  VerifyOptions vopt = c.run.verify_options();
   vopt.corpus = c.no_corpus ? std::nullopt : std::optional<std::filesystem::path>(c.corpus_dir);
-  vopt.progress = !c.no_progress;
   if (*c.index_option) vopt.only_index = c.index;
-  return cmd_verify(vopt, c.distributions, c.json_file, external.methods(vopt.methods, external.jobs));
+  return cmd_verify(vopt, c.json_file, external.methods(vopt.methods, external.jobs));
 }
 
 }  // namespace cullproof::app

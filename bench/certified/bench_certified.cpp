@@ -1,12 +1,12 @@
 // What certification costs: each certified test next to its plain float twin, on the same
 // random near-frustum volumes, with the per-frame preparation (plane normalisation, certified
 // bounds) done once outside the timed loop, as a culler does it per frame.
-#include "cullproof/certified.hpp"
-#include "cullproof/certified_batch.hpp"
-#include "cullproof/cull_batch.hpp"
-#include "cullproof/cull.hpp"
-#include "cullproof/exact.hpp"
-#include "cullproof/frustum_build.hpp"
+#include "cullproof/core/certified.hpp"
+#include "cullproof/simd/certified_batch.hpp"
+#include "cullproof/simd/cull_batch.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/core/exact.hpp"
+#include "cullproof/core/frustum_build.hpp"
 
 #include <benchmark/benchmark.h>
 #include <glm/gtc/quaternion.hpp>

@@ -1,4 +1,4 @@
-// What exact culling costs: the certified-exact cascade (cullproof/exact_certified.hpp) beside the
+// What exact culling costs: the certified-exact cascade (cullproof/simd/exact_certified.hpp) beside the
 // certified n/p-vertex tests it starts from, per test, with the per-frame set-up hoisted, on the
 // frames `cullproof verify` times (gen::draw_frame: one camera per frame, 1,024 volumes of the
 // distribution around it; 8 frames per distribution, seed 1), for each generic distribution and
@@ -24,14 +24,14 @@
 //
 // --simd_target=NAME (a Highway target this machine runs: AVX3, AVX2, SSE4, ...) runs the
 // vector code of both the exact and the certified methods as on a machine whose best is NAME.
-#include "batch_adapter.hpp"       // AoS to SoA chunks (not installed)
-#include "batch_combinations.hpp"  // the AABB array form's float passes (not installed)
-#include "batch_spheres.hpp"       // the sphere array form's double pass (not installed)
-#include "cullproof/certified.hpp"
-#include "cullproof/certified_batch.hpp"
-#include "cullproof/exact_certified.hpp"
-#include "cullproof/generators.hpp"
-#include "cullproof/methods.hpp"
+#include "cullproof/simd/batch_adapter.hpp"       // AoS to SoA chunks (not installed)
+#include "cullproof/simd/batch_combinations.hpp"  // the AABB array form's float passes (not installed)
+#include "cullproof/simd/batch_spheres.hpp"       // the sphere array form's double pass (not installed)
+#include "cullproof/core/certified.hpp"
+#include "cullproof/simd/certified_batch.hpp"
+#include "cullproof/simd/exact_certified.hpp"
+#include "cullproof/gen/generators.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <benchmark/benchmark.h>
 #include <hwy/targets.h>

@@ -6,11 +6,11 @@
 //    batch scan of the same leaves.
 #include <benchmark/benchmark.h>
 
-#include "cullproof/cull.hpp"
-#include "cullproof/cull_batch.hpp"
-#include "cullproof/cull_bvh.hpp"
-#include "cullproof/cull_coherence.hpp"
-#include "cullproof/methods.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/simd/cull_batch.hpp"
+#include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/core/cull_coherence.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <glm/ext/matrix_transform.hpp>
 

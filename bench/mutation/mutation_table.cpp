@@ -14,8 +14,8 @@
 // the same way and must never be flagged. Prints the markdown table of docs/mutation.md.
 #include "mutants.hpp"
 
-#include "cullproof/campaign.hpp"
-#include "cullproof/corpus.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/campaign/corpus.hpp"
 
 #include <fmt/format.h>
 

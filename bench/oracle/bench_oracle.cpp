@@ -16,7 +16,7 @@
 //   balls of the OBB's centre and half-diagonal (third argument 1); a case whose truth is the
 //   verdict costs only its truth.
 // Counters: fallback_fraction = fallbacks / calls of the filter over the benchmark's calls.
-#include "cullproof/oracle.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <benchmark/benchmark.h>
 #include <glm/gtc/quaternion.hpp>

@@ -3,8 +3,8 @@
 // Every iteration runs the whole path from fresh state (coherence caches empty at frame 0), so
 // the coherent configurations are measured as they work: across frames. Run from the source
 // directory after scripts/fetch-meshes. `cullproof simulate --table1` reports the same as speedups.
-#include "cullproof/simulate.hpp"
-#include "engine.hpp"
+#include "cullproof/sim/simulate.hpp"
+#include "cullproof/sim/engine.hpp"
 
 #include <benchmark/benchmark.h>
 

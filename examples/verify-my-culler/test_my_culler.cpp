@@ -1,7 +1,7 @@
 // Verifying my culler: the method is described once, then one line per claim to check.
 #include "my_culler.hpp"
 
-#include <cullproof/gtest.hpp>
+#include <cullproof/gtest/gtest.hpp>
 
 #include <iostream>
 

@@ -1,11 +1,11 @@
 // Certified conservative cullers on hand-made cases, and the SIMD batch against the scalar
 // functions bit for bit. The oracle-backed guarantees are in tests/harness (every family) and
 // test_certified_fma (with FMA contraction).
-#include "cullproof/certified.hpp"
-#include "cullproof/certified_batch.hpp"
-#include "cullproof/cull.hpp"
-#include "cullproof/frustum_build.hpp"
-#include "cullproof/methods.hpp"
+#include "cullproof/core/certified.hpp"
+#include "cullproof/simd/certified_batch.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/core/frustum_build.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
@@ -98,7 +98,7 @@ TEST(Certified, HugeCoordinatesNeverOverflowIntoAVerdict) {
   EXPECT_GT(f.data().m_safe, 1e30f);
 }
 
-// A scalar model of the SIMD kernels' operations (src/certified/batch_certified.cpp): the fast
+// A scalar model of the SIMD kernels' operations (src/simd/batch_certified.cpp): the fast
 // path's scaled planes, M, T = fl(t M) and plane values as three fused multiply-adds (the batch
 // fuses them on every target: in SIMD where the target has FMA, volume by volume otherwise).
 float mul_add(float a, float b, float c) { return std::fma(a, b, c); }
@@ -408,92 +408,4 @@ TEST(Certified, RegisteredWithTheCertifiedClaim) {
     EXPECT_EQ(m->claim, Claim::certified_conservative) << name;
     EXPECT_EQ(m->origin, Origin::own) << name;
   }
-}
-
-// ---- The margins, re-derived from the error model ------------------------------------------------
-//
-// Each factor of CertifiedMargins must cover what the derivation in certified.cpp says a float
-// computation can err by, computed here from u = 2^-24 alone (in long double, a 64-bit
-// significand). A changed constant, or a changed computation whose derivation is not redone,
-// fails here.
-
-namespace {
-
-using L = long double;
-constexpr L u = 0x1p-24L;
-L gamma(int k) { return k * u / (1 - k * u); }
-
-// The plane value s = fl(n^.p + d^) in any order, with or without FMA, against the true plane:
-// a four-term inner product (gamma_4) of terms within (1 + u) of the bound, plus the float
-// coefficients' own error u.
-L plane_value_error() { return gamma(4) * (1 + u) + u; }
-
-}  // namespace
-
-TEST(CertifiedMargins, TheFactorsArePowersOfTwoOfU) {
-  EXPECT_EQ(L(CertifiedMargins::kNarrow), 8 * u);
-  EXPECT_EQ(L(CertifiedMargins::kWide), 16 * u);
-  EXPECT_EQ(CertifiedMargins::kUnderflow, std::numeric_limits<float>::min());
-}
-
-TEST(CertifiedMargins, NarrowCoversPointsAndBoxes) {
-  EXPECT_LE(plane_value_error(), 5.0001L * u);
-  // t = kNarrow fl(fl(A' M) + a_d): two roundings of the bound and the product with kNarrow,
-  // (1 - u)^3 at worst.
-  const L t = L(CertifiedMargins::kNarrow) * (1 - u) * (1 - u) * (1 - u);
-  EXPECT_GT(t, plane_value_error());
-}
-
-TEST(CertifiedMargins, WideCoversSpheres) {
-  // nu = fl(sqrt(fl(n^.n^))): the sum of squares within gamma_3, the root halves it, one more
-  // rounding: |nu - |n^|| <= 2.6 u |n^|; with ||n^| - |n|| <= u A: within 3.7 u A of |n|.
-  const L sqrt_err = std::max((1 + u) * std::sqrt(1 + gamma(3)) - 1, 1 - (1 - u) * std::sqrt(1 - gamma(3)));
-  EXPECT_LE(sqrt_err, 2.6L * u);
-  const L nu_err = sqrt_err * (1 + u) + u;  // relative to A (|n^| <= (1 + u) A)
-  EXPECT_LE(nu_err, 3.7L * u);
-  // rho = fl(r nu): within (u (1 + nu_err) + nu_err) r A of r |n|.
-  const L rho_err = u * (1 + nu_err) + nu_err;
-  EXPECT_LE(rho_err, 4.8L * u);
-  // fl(s +- rho): the plane value, rho, and the last sum (u on a total below (1 + 6u) of the
-  // bound A (M + r) + a_d).
-  const L total = plane_value_error() + rho_err + u * (1 + 6 * u);
-  EXPECT_LE(total, 11 * u);
-  // t = kWide fl(fl(A' fl(M + r)) + a_d): three roundings.
-  EXPECT_GT(L(CertifiedMargins::kWide) * (1 - u) * (1 - u) * (1 - u), total);
-}
-
-TEST(CertifiedMargins, WideCoversObbs) {
-  // q_i = fl(n^.u_i) within (gamma_3 (1 + u) + u) A U_i of n.u_i.
-  const L q_err = gamma(3) * (1 + u) + u;
-  EXPECT_LE(q_err, 4.0001L * u);
-  // r = fl(sum h_i |q_i|): three products and two sums (gamma_3 on terms within (1 + q_err)),
-  // plus the q_i errors themselves.
-  const L r_err = gamma(3) * (1 + q_err) + q_err * (1 + gamma(3));
-  EXPECT_LE(r_err, 7.01L * u);
-  // The centre's plane value, the half-width and the final sum or difference.
-  const L total = plane_value_error() + r_err + u * (1 + 13 * u);
-  EXPECT_LE(total, 13.1L * u);
-  // t = kWide fl(fl(A' fl(M_c + H)) + a_d), H itself a rounded sum: four roundings.
-  EXPECT_GT(L(CertifiedMargins::kWide) * (1 - u) * (1 - u) * (1 - u) * (1 - u), total);
-}
-
-TEST(CertifiedMargins, FastPathOffsetsAndThreshold) {
-  // Boxes: T >= kNarrow (1 - u) A' M must exceed the plane value's error on the A' M part, and
-  // delta (1 - gamma_4) >= kNarrow a'_d its error on the constant part.
-  EXPECT_GT(L(CertifiedMargins::kNarrow) * (1 - u), plane_value_error());
-  EXPECT_GT(L(CertifiedMargins::kNarrow) * (1 - gamma(4)), plane_value_error());
-  // Spheres: the 11 u bound, under kWide with the same roundings.
-  EXPECT_GT(L(CertifiedMargins::kWide) * (1 - u) * (1 - u), 11 * u);
-  EXPECT_GT(L(CertifiedMargins::kWide) * (1 - gamma(4)), 11 * u);
-}
-
-TEST(CertifiedMargins, BallMembership) {
-  // fl(fl(s K) + E) < fl(r r) proves sum (x_i - c_i)^2 < r^2: the differences (u each), the three
-  // squares and two sums (gamma_3, and 2^-150 per square that underflows), fl(r r) (u, and
-  // 2^-150), and the check's own two roundings (1 - u each).
-  const L K = CertifiedMargins::kBallScale, E = CertifiedMargins::kBallAbsolute;
-  EXPECT_LE((1 + u) / (K * std::pow(1 - u, 4.0L) * (1 - gamma(3))), 1.0L);
-  // E / 2 (what the roundings keep of it) covers 3 2^-150 for the squares, 2^-150 for r r and
-  // 2^-150 for the product s K, each grown by at most 1 / ((1 - gamma_3)(1 - u)^2).
-  EXPECT_GE(E / 2, 5 * std::ldexp(1.0L, -150) / ((1 - gamma(3)) * (1 - u) * (1 - u)));
 }

@@ -1,10 +1,10 @@
-// The certified guarantee with FMA contraction: this file and src/certified/certified.cpp are
+// The certified guarantee with FMA contraction: this file and src/core/certified/certified.cpp are
 // compiled with -mfma -ffp-contract=fast, so the plane evaluations and margins may be fused. The
 // derivation (certified.cpp) holds either way; here the oracle checks it on every family.
-#include "cullproof/arbitrary.hpp"
-#include "cullproof/certified.hpp"
-#include "cullproof/generators.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/gen/arbitrary.hpp"
+#include "cullproof/core/certified.hpp"
+#include "cullproof/gen/generators.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>

@@ -3,10 +3,10 @@
 // float range (coordinates near FLT_MAX, subnormal distances), matrix frusta whose float
 // extraction differs from the exact planes; and the margins re-derived from the error model.
 // The oracle checks every family in test_exact_certified_property.
-#include "cullproof/exact_certified.hpp"
-#include "cullproof/exact_certified_batch.hpp"
-#include "cullproof/frustum_build.hpp"
-#include "cullproof/methods.hpp"
+#include "cullproof/simd/exact_certified.hpp"
+#include "cullproof/simd/exact_certified_batch.hpp"
+#include "cullproof/core/frustum_build.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <boost/multiprecision/cpp_int.hpp>
 #include <gtest/gtest.h>

@@ -4,15 +4,15 @@
 // exact), points as flat boxes, OBBs and balls of radius 0; AABBs and spheres through the batch
 // forms as well. Built twice: as is, and (test_exact_certified_fma) with the float stages compiled
 // with -mfma -ffp-contract=fast, so that the bounds are checked with contraction too.
-#include "batch_combinations.hpp"
-#include "batch_spheres.hpp"
-#include "cullproof/arbitrary.hpp"
-#include "cullproof/certified_batch.hpp"
-#include "cullproof/exact_certified.hpp"
-#include "cullproof/exact_certified_batch.hpp"
-#include "cullproof/generators.hpp"
-#include "cullproof/methods.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/simd/batch_combinations.hpp"
+#include "cullproof/simd/batch_spheres.hpp"
+#include "cullproof/gen/arbitrary.hpp"
+#include "cullproof/simd/certified_batch.hpp"
+#include "cullproof/simd/exact_certified.hpp"
+#include "cullproof/simd/exact_certified_batch.hpp"
+#include "cullproof/gen/generators.hpp"
+#include "cullproof/methods/methods.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
@@ -288,7 +288,7 @@ TEST(ExactCertifiedFloatRange, EqualsTheOracleFromSubnormalsToFltMax) {
   EXPECT_TRUE(ok);
 }
 
-// The stages in vector lanes (src/certified/exact_lanes.cpp: the planes of OBBs and spheres, an
+// The stages in vector lanes (src/simd/exact_lanes.cpp: the planes of OBBs and spheres, an
 // OBB's anchors, the programme that finds the frame's interior point and proposes stage 2's
 // certificates) compute what the derivation does, operation for operation, so every SIMD target
 // this machine runs prepares the same frame (interior point, anchors) and gives the same stage and

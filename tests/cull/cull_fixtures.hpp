@@ -1,7 +1,7 @@
 // Hand-made frusta and helpers shared by the tests of the fast culler family.
 #pragma once
 
-#include "cullproof/cull.hpp"
+#include "cullproof/core/cull.hpp"
 
 #include <glm/ext/matrix_clip_space.hpp>
 

@@ -1,9 +1,9 @@
-// Unit tests of the SIMD batch cullers (cullproof/cull_batch.hpp): bit-for-bit the scalar
+// Unit tests of the SIMD batch cullers (cullproof/simd/cull_batch.hpp): bit-for-bit the scalar
 // verdicts on random input, including boxes and spheres touching planes exactly.
 #include <gtest/gtest.h>
 
 #include "cull_fixtures.hpp"
-#include "cullproof/cull_batch.hpp"
+#include "cullproof/simd/cull_batch.hpp"
 
 #include <random>
 

@@ -1,8 +1,8 @@
-// Unit tests of the BVH builder and its traversals (cullproof/cull_bvh.hpp).
+// Unit tests of the BVH builder and its traversals (cullproof/core/cull_bvh.hpp).
 #include <gtest/gtest.h>
 
 #include "cull_fixtures.hpp"
-#include "cullproof/cull_bvh.hpp"
+#include "cullproof/core/cull_bvh.hpp"
 
 #include <glm/ext/matrix_transform.hpp>
 #include <hwy/targets.h>

@@ -1,13 +1,12 @@
-// Unit tests of the frame-coherent cullers (cullproof/cull_coherence.hpp).
+// Unit tests of the frame-coherent cullers (cullproof/core/cull_coherence.hpp).
 #include <gtest/gtest.h>
 
 #include "cull_fixtures.hpp"
-#include "cullproof/cull_coherence.hpp"
+#include "cullproof/core/cull_coherence.hpp"
 
 #include <glm/ext/matrix_transform.hpp>
 
 #include <algorithm>
-#include <cstdio>
 #include <random>
 #include <string>
 
@@ -129,15 +128,15 @@ TEST(CullOctant, NeverRejectsWhatPnVertexAcceptsAndCorrectedNeverFalseInside) {
       EXPECT_NE(cor, V::outside);
     }
     if (min_n_vertex_margin(f, b) < -1e-4 * s) {  // a corner clearly outside: not inside
-      if (pub == V::inside && published_false_inside == 0)
-        std::printf("first octant false inside: min %a %a %a max %a %a %a margin %g d1 %g\n", b.min.x, b.min.y,
-                    b.min.z, b.max.x, b.max.y, b.max.z, min_n_vertex_margin(f, b), c.centre_distance());
       published_false_inside += pub == V::inside;
       EXPECT_NE(cor, V::inside);
     }
   }
+  // The published test's flaw (the next test pins one case) shows on these thin boxes; were it
+  // to vanish, the boxes would no longer reach the precondition's blind spot and the assertions
+  // on the corrected test above would test nothing there.
   RecordProperty("octant_published_false_inside", published_false_inside);
-  std::printf("octant as published: %d false insides in 300000 random thin boxes\n", published_false_inside);
+  EXPECT_GT(published_false_inside, 0) << "no thin box of 300000 caught the published octant test's false inside";
 }
 
 TEST(CullOctant, AsPublishedReportsAThinBoxInsideWhileACornerIsOutside) {

@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include "cullproof/cull_bvh.hpp"
-#include "cullproof/methods.hpp"
+#include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>

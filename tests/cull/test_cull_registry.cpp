@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cull_fixtures.hpp"
-#include "cullproof/methods.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <set>
 

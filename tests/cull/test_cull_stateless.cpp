@@ -1,9 +1,9 @@
-// Unit tests of the stateless fast cullers (cullproof/cull.hpp): hand-made cases named by what
+// Unit tests of the stateless fast cullers (cullproof/core/cull.hpp): hand-made cases named by what
 // they check. Frusta and boxes: cull_fixtures.hpp.
 #include <gtest/gtest.h>
 
 #include "cull_fixtures.hpp"
-#include "cullproof/cull.hpp"
+#include "cullproof/core/cull.hpp"
 
 #include <glm/ext/matrix_transform.hpp>
 

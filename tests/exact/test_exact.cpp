@@ -1,9 +1,9 @@
 // Hoff's test as published, hoff-exact, the separating-axis test and the reverse test on
 // hand-made cases. Frustum F = glm::frustum(-1, 1, -1, 1, 1, 3): apex (COP) at the origin,
 // |x|, |y| <= -z, z in [-3, -1]; corners (+-1, +-1, -1) and (+-3, +-3, -3).
-#include "cullproof/exact.hpp"
-#include "cullproof/frustum_build.hpp"
-#include "cullproof/methods.hpp"
+#include "cullproof/core/exact.hpp"
+#include "cullproof/core/frustum_build.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <gtest/gtest.h>
 
@@ -188,7 +188,7 @@ TEST(Registry, ExactFamilyIsRegisteredWithClaimsAndSources) {
 }
 
 #ifdef CULLPROOF_TEST_ORACLE
-#include "cullproof/oracle.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 // The truths the tests above derive by hand (in their comments), decided by the oracle.
 TEST(HandMadeTruths, AgreeWithTheOracle) {

@@ -1,10 +1,10 @@
 // What the readers of untrusted input promise (see fuzz_inputs.hpp).
 #include "fuzz_inputs.hpp"
 
-#include "cullproof/case_io.hpp"
-#include "cullproof/corpus.hpp"
-#include "cullproof/protocol.hpp"
-#include "cullproof/scene.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/protocol/protocol.hpp"
+#include "cullproof/sim/scene.hpp"
 
 #include <algorithm>
 #include <string>

@@ -1,17 +1,17 @@
 // Camera paths and stateful methods: the camera-path distribution is deterministic and moves; a
 // stateful method sees each path's frames in order with the same objects in the same order (the
-// contract of cullproof/methods.hpp), through classify and through an array form; a coherency
+// contract of cullproof/methods/methods.hpp), through classify and through an array form; a coherency
 // cache that trusts a stale answer is refuted with a shrunk path that replays from the corpus;
 // a correct coherent culler holds; a fault on a path names the frame and saves the path.
 #include <gtest/gtest.h>
 
-#include "cullproof/campaign.hpp"
-#include "cullproof/case_io.hpp"
-#include "cullproof/corpus.hpp"
-#include "cullproof/cull.hpp"
-#include "cullproof/cull_coherence.hpp"
-#include "cullproof/methods.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/core/cull_coherence.hpp"
+#include "cullproof/methods/methods.hpp"
+#include "cullproof/oracle/oracle.hpp"
 #include "mutants.hpp"
 
 #include <unistd.h>

@@ -4,10 +4,10 @@
 // A published method whose claim the corpus already refutes is reported, not failed: its
 // refuting cases live in corpus/ and test_corpus checks that they still refute it. A new
 // refutation of any other method fails here with the exact counterexample.
-#include "cullproof/arbitrary.hpp"
-#include "cullproof/campaign.hpp"
-#include "cullproof/corpus.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/gen/arbitrary.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>

@@ -1,10 +1,10 @@
 // Float-exactness (gen::float_exact): hand-made cases on each side of the rule, and the rule's
 // soundness against a correct float test: on a float-exact case the n/p-vertex, point and sphere
 // tests make no error their exact-arithmetic claim forbids, so no allowance is needed there.
-#include "cullproof/case_io.hpp"
-#include "cullproof/cull.hpp"
-#include "cullproof/generators.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/gen/generators.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>

@@ -8,8 +8,8 @@
 //    face are, and the products n_i x_i of a plane test underflow.
 // And the extraction a culler is given stays finite where the row sums overflow, the oracle agrees
 // with the independent exact method there, and the test helper leaves huge out by default.
-#include "cullproof/generators.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/gen/generators.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 
@@ -219,7 +219,7 @@ TEST(FloatRange, TheOracleAgreesWithTheIndependentMethod) {
 }
 
 TEST(FloatRange, TheTestHelperAsksForHugeByName) {
-  // The helper's default: every family but huge (cullproof/gtest.hpp says why), subnormal in it.
+  // The helper's default: every family but huge (cullproof/gtest/gtest.hpp says why), subnormal in it.
   const std::vector<gen::Distribution> all = gen::parse_distributions("all"), def = gen::no_overflow_distributions();
   EXPECT_EQ(def.size() + 1, all.size());
   EXPECT_EQ(std::count(def.begin(), def.end(), gen::Distribution::huge), 0);

@@ -5,10 +5,10 @@
 //    is refuted, is counted and reported instead);
 //  - hierarchical traversals: the visible set holds every primitive the oracle calls visible, an
 //    `inside` verdict is truly inside, and masking / per-node coherency change no verdict.
-#include "cullproof/cull.hpp"
-#include "cullproof/cull_bvh.hpp"
-#include "cullproof/cull_coherence.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/core/cull_coherence.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <glm/gtc/quaternion.hpp>

@@ -1,8 +1,8 @@
 // Harness units: the error-class table, the claim rules, the confidence interval, deterministic
 // generation, the hard families' construction, and the campaign's corpus writing.
-#include "cullproof/campaign.hpp"
-#include "cullproof/corpus.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,12 +3,12 @@
 // refuted and fails the run), two-way methods, stateful methods, and methods that fault.
 #include <gtest/gtest.h>
 
-#include "cullproof/campaign.hpp"
-#include "cullproof/case_io.hpp"
-#include "cullproof/corpus.hpp"
-#include "cullproof/cull.hpp"
-#include "cullproof/methods.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/methods/methods.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <unistd.h>
 

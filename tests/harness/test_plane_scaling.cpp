@@ -6,9 +6,9 @@
 //  - the oracle's truth is the same as on the case as drawn;
 //  - every certified method's verdict on the scaled case is correct (its claim holds: no false
 //    reject, no false inside), as the oracle judges.
-#include "cullproof/arbitrary.hpp"
-#include "cullproof/campaign.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/gen/arbitrary.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
@@ -91,7 +91,7 @@ bool same_planes_up_to_scaling(const gen::GenCase& a, const gen::GenCase& b) {
 
 }  // namespace
 
-// Every distribution: the argument is rc::Arbitrary<gen::Distribution> (cullproof/arbitrary.hpp).
+// Every distribution: the argument is rc::Arbitrary<gen::Distribution> (cullproof/gen/arbitrary.hpp).
 RC_GTEST_PROP(PlaneScaling, PowersOfTwoChangeNoTruthAndNoCertifiedVerdictGoesWrong, (gen::Distribution d)) {
   const gen::GenCase g = *gen::case_of(d);
   const gen::GenCase s = scaled(g);

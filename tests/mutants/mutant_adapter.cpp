@@ -5,7 +5,7 @@
 // would), each volume answered by the mutant's array form where it has one, else one by one.
 #include "mutants.hpp"
 
-#include "cullproof/case_io.hpp"
+#include "cullproof/io/case_io.hpp"
 
 #include <nlohmann/json.hpp>
 

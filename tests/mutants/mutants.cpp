@@ -3,9 +3,9 @@
 // "BUG:" where it is planted.
 #include "mutants.hpp"
 
-#include "cullproof/cull.hpp"
-#include "cullproof/cull_bvh.hpp"
-#include "cullproof/cull_coherence.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/core/cull_coherence.hpp"
 
 #include <glm/glm.hpp>
 

@@ -6,7 +6,7 @@
 // through the same paths a user's culler takes (the method interface and the test helper).
 #pragma once
 
-#include "cullproof/methods.hpp"
+#include "cullproof/methods/methods.hpp"
 
 #include <string>
 #include <vector>

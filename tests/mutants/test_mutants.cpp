@@ -6,9 +6,9 @@
 // language is verified.
 #include "mutants.hpp"
 
-#include "cullproof/corpus.hpp"
-#include "cullproof/external.hpp"
-#include "cullproof/gtest.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/protocol/external.hpp"
+#include "cullproof/gtest/gtest.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,8 +1,8 @@
 // Helpers shared by the oracle tests: hand-checkable frusta and a classify-everything checker.
 #pragma once
 
-#include "cullproof/case_io.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 

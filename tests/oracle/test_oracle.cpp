@@ -2,7 +2,7 @@
 // next to it; every coordinate is a float that is exactly the number written.
 #include "oracle_test_util.hpp"
 
-#include "cullproof/case_io.hpp"
+#include "cullproof/io/case_io.hpp"
 
 #include <glm/ext/matrix_clip_space.hpp>
 

@@ -1,7 +1,7 @@
 // Every committed case (corpus/, examples/cases.jsonl, examples/float-range.jsonl, examples/engines/corpus/) through the oracle and the independent method:
 // zero disagreements, and where a case records a truth, the oracle reproduces it.
-#include "cullproof/case_io.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>
 

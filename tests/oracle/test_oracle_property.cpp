@@ -2,7 +2,7 @@
 // Each case is also classified by the exact route alone (no filter), which must agree with the
 // filtered answer, and the distance must be consistent with the truth.
 //
-// The cases come from the generator library (cullproof/generators.hpp, cullproof/arbitrary.hpp):
+// The cases come from the generator library (cullproof/gen/generators.hpp, cullproof/gen/arbitrary.hpp):
 // the exact families (touching by construction, containment both ways, degenerate volumes and
 // special planes, on frusta with integer corners), every camera-built distribution (matrix
 // frusta in every depth convention, and planes), any case at all, and a frustum and a volume
@@ -10,13 +10,13 @@
 //
 // Cases per property: RapidCheck's max_success (RC_PARAMS), which CTest sets (see CMakeLists.txt);
 // by hand: RC_PARAMS=max_success=25000 build/tests/oracle/test_oracle_property. A failure prints
-// every value drawn, a case in the case format (cullproof/arbitrary.hpp), and RapidCheck's
+// every value drawn, a case in the case format (cullproof/gen/arbitrary.hpp), and RapidCheck's
 // reproduce string.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include "cullproof/arbitrary.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/gen/arbitrary.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <cmath>
 #include <string>

@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
-#include "cullproof/arbitrary.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/gen/arbitrary.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <cmath>
 #include <string>

@@ -2,9 +2,9 @@
 // docs/protocol.md) is a method like any other, with the same verdicts as the built-in n/p-vertex
 // test; adapters that crash, hang, miscount, print garbage, answer an unknown verdict or out of
 // order are each stopped with the documented error and the case saved.
-#include "cullproof/campaign.hpp"
-#include "cullproof/external.hpp"
-#include "cullproof/protocol.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/protocol/external.hpp"
+#include "cullproof/protocol/protocol.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -257,7 +257,7 @@ TEST(Protocol, FrustaAtTheEndsOfTheFloatRangeArriveAsTheyAre) {
   }
 }
 
-// The readers of a program's lines, on text (cullproof/protocol.hpp): every field of a handshake
+// The readers of a program's lines, on text (cullproof/protocol/protocol.hpp): every field of a handshake
 // is checked for its type, so a handshake of the wrong shape is refused naming the field, never
 // with the JSON library's type error.
 std::string handshake_error(const std::string& line) {

@@ -2,8 +2,8 @@
 // rates of 0 on a floor below every measured rate, the Pareto front flagged; heat-map cells per
 // method and family that applies; distance cells per decade), and the text put into the page made
 // safe for HTML and for <script>.
-#include "cullproof/report.hpp"
-#include "cullproof/summary.hpp"
+#include "cullproof/report/report.hpp"
+#include "cullproof/report/summary.hpp"
 
 #include <gtest/gtest.h>
 
@@ -127,8 +127,8 @@ TEST(ReportPage, ThePageHoldsTheSummaryTheChartsAndTheScript) {
 
 // ---- the corpus drawn ----------------------------------------------------------------------
 
-#include "cullproof/case_view.hpp"
-#include "cullproof/frustum_build.hpp"
+#include "cullproof/report/case_view.hpp"
+#include "cullproof/core/frustum_build.hpp"
 
 namespace {
 

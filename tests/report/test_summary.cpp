@@ -2,9 +2,9 @@
 // hand-made result (pooled rates, median cost, groups by volume kinds, refuted claims with their
 // corpus cases), a malformed result refused naming the field, and a campaign run whose
 // claim-breaking cases are named again on a second run that writes nothing new.
-#include "cullproof/campaign.hpp"
-#include "cullproof/corpus.hpp"
-#include "cullproof/summary.hpp"
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/report/summary.hpp"
 
 #include <gtest/gtest.h>
 

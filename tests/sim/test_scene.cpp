@@ -1,6 +1,6 @@
 // Scene files and meshes: every kind of bad input is rejected with the file and the field (or
 // line) named; the hierarchy has the promised shape.
-#include "cullproof/scene.hpp"
+#include "cullproof/sim/scene.hpp"
 
 #include <gtest/gtest.h>
 

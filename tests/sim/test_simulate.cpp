@@ -1,14 +1,14 @@
 // The simulator: which optimisations it enables and why, exhaustive verification of small
 // scenes against the oracle, determinism, and the inline node tests against the library.
-#include "cullproof/node_tests.hpp"
-#include "cullproof/simulate.hpp"
-#include "engine.hpp"
+#include "cullproof/sim/node_tests.hpp"
+#include "cullproof/sim/simulate.hpp"
+#include "cullproof/sim/engine.hpp"
 
-#include "cullproof/case_io.hpp"
-#include "cullproof/oracle.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
-#include "cullproof/cull.hpp"
-#include "cullproof/cull_coherence.hpp"
+#include "cullproof/core/cull.hpp"
+#include "cullproof/core/cull_coherence.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Case files: exact numbers, every kind of malformed input named by file, line and field,
 // input past the readers' limits refused fast, atomic writes.
-#include "cullproof/case_io.hpp"
+#include "cullproof/io/case_io.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Property: every finite float survives write -> read bit-exactly, as a decimal and as hex.
-#include "cullproof/case_io.hpp"
+#include "cullproof/io/case_io.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>

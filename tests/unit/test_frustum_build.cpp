@@ -1,6 +1,6 @@
 // Frustum construction against hand-computed planes. Every expectation below is worked out in
 // the comment beside it from the matrix entries (all exactly representable).
-#include "cullproof/frustum_build.hpp"
+#include "cullproof/core/frustum_build.hpp"
 
 #include <gtest/gtest.h>
 #include <glm/ext/matrix_clip_space.hpp>

@@ -1,5 +1,5 @@
 // Geometry core: names, normalisation, validation messages.
-#include "cullproof/geometry.hpp"
+#include "cullproof/core/geometry.hpp"
 
 #include <boost/multiprecision/cpp_int.hpp>
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // The report page: hands each chart's Vega-Lite specification (written by the C++ side, see
-// report/charts.cpp) to vega-embed, and shows the corpus in 3D (corpus.js).
+// src/report/charts.cpp) to vega-embed, and shows the corpus in 3D (corpus.js).
 //
 // For the browser tests: window.cullproof.ready resolves when every chart is drawn (the body's
 // data-ready is then "yes"); window.cullproof.views maps a chart's element id to its Vega view;

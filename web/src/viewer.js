@@ -1,6 +1,6 @@
 // One corpus case in 3D (three.js): the frustum (its bounded part; dashed edges where the view cuts
 // an unbounded part), the volume, the oracle's witness (a point of both, or a separating plane), and
-// the plane that made the method err highlighted (report/case_view.cpp chooses it). Orbit and zoom
+// the plane that made the method err highlighted (src/report/case_view.cpp chooses it). Orbit and zoom
 // with the mouse; "zoom to the error" magnifies around the witness, where an error of a few ulps is
 // otherwise invisible, and says by how much.
 //
@@ -169,7 +169,7 @@ export class CaseViewer {
     }
   }
 
-  /// Shows a case (a view from report/case_view.cpp), at scene scale.
+  /// Shows a case (a view from src/report/case_view.cpp), at scene scale.
   show(view) {
     this.view = view;
     this.setMode('scene');

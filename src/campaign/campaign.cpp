@@ -1,0 +1,397 @@
+// The verification run (see cullproof/campaign/campaign.hpp): per distribution, the cases drawn, every
+// method's verdicts and the oracle's truth, the errors' distances, and per method the counts, the
+// corpus records and the cost.
+#include "campaign_internal.hpp"
+
+#include "cullproof/oracle/oracle.hpp"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <set>
+
+namespace cullproof {
+
+namespace {
+
+using namespace detail;
+
+struct CaseOutcome {
+  Visibility truth{};
+  std::vector<std::int8_t> verdict;  // -1: method does not apply; else Visibility
+  double distance = std::numeric_limits<double>::quiet_NaN();  // oracle distance, erring cases only
+  double scale = 0.0;                                          // gen::case_scale, erring cases only
+  bool float_exact = false;                                    // gen::float_exact
+  // error_distance per verdict (indexed by Visibility), where some method's claim needs it.
+  static constexpr double kUnmeasured = -1.0;
+  std::array<double, 3> verdict_distance{kUnmeasured, kUnmeasured, kUnmeasured};
+};
+
+std::int8_t verdict_code(const Answer& a) { return a ? std::int8_t(*a) : std::int8_t(-1); }
+
+// One distribution of a run, step by step: draw the cases; run the methods (case by case, or on
+// camera paths frame by frame as an engine does, stateful methods on one thread); stop at the
+// first fault; measure the errors' distances; then count each method's errors, record them in
+// the corpus and time the method.
+class DistributionRun {
+ public:
+  DistributionRun(const VerifyOptions& opt, const std::vector<Method>& ms, gen::Distribution d, Progress& progress)
+      : opt_(opt), ms_(ms), d_(d), progress_(progress), per_(opt.only_index ? 1 : opt.cases),
+        first_(opt.only_index ? *opt.only_index : 0), on_paths_(d == gen::Distribution::camera_path),
+        cases_(per_), out_(per_) {}
+
+  DistributionResult run() {
+    const auto st0 = oracle::stats();
+    draw_cases();
+    run_case_by_case();
+    if (on_paths_) run_path_frames();
+    run_stateful();
+    stop_at_first_fault();
+    measure_errors();
+    const auto st1 = oracle::stats();
+
+    DistributionResult dr;
+    dr.distribution = d_;
+    dr.cases = per_;
+    dr.oracle_calls = st1.calls - st0.calls;
+    dr.oracle_fallbacks = st1.fallbacks - st0.fallbacks;
+    for (const CaseOutcome& o : out_) dr.float_exact_cases += o.float_exact;
+    const auto frames = timing_frames();
+    for (std::size_t k = 0; k < ms_.size(); ++k) {
+      MethodStats s = tally(k);
+      if (opt_.timing) {
+        const Timing t = time_method(ms_[k], frames.at(ms_[k].volumes));
+        s.ns_per_test = t.ns_per_test;
+        s.ns_setup_per_frame = t.ns_setup_per_frame;
+        s.timed_batch = ms_[k].has_batch();
+        s.ns_per_test_own = t.ns_per_test_own;
+      }
+      dr.methods.push_back(std::move(s));
+    }
+    return dr;
+  }
+
+ private:
+  // RapidCheck's generation context is process-global (not thread-safe): cases are drawn on this
+  // thread, the oracle and the methods run in parallel. Camera-path cases come path by path: each
+  // path is drawn once (and kept for the stateful methods, which run over it).
+  void draw_cases() {
+    for (std::uint64_t i = 0; i < per_; ++i) {
+      if (on_paths_) {
+        const gen::PathIndex at = gen::path_index(first_ + i);
+        auto it = paths_.find(at.path);
+        if (it == paths_.end()) it = paths_.emplace(at.path, gen::draw_path(opt_.seed, at.path)).first;
+        cases_[i] = gen::path_case(it->second, at.frame, at.object);
+      } else {
+        cases_[i] = gen::draw(d_, opt_.seed, first_ + i).value();
+      }
+      validate(cases_[i].volume);
+    }
+  }
+
+  // The path case of a stateful method at case index `index` of this run's paths: the frames up to
+  // its own, every object.
+  PathCase path_case_at(std::uint64_t index) const {
+    const gen::PathIndex at = gen::path_index(index);
+    const gen::CameraPath& cp = paths_.at(at.path);
+    PathCase pc;
+    pc.frames.assign(cp.frames.begin(), cp.frames.begin() + std::ptrdiff_t(at.frame + 1));
+    pc.objects = cp.objects;
+    pc.object = at.object;
+    pc.motion = cp.motion;
+    return pc;
+  }
+
+  // A fault is kept for the smallest case index it happens on (the same seed reports the same case
+  // whatever the threads do). Indices are the distribution's (a stateful method on a camera path
+  // may fault on a frame before the first case asked for).
+  void note_fault(std::uint64_t index, std::size_t k, const std::string& problem) {
+    std::lock_guard<std::mutex> g(fault_mutex_);
+    if (index < fault_index_ || (index == fault_index_ && k < fault_method_)) {
+      fault_index_ = index;
+      fault_method_ = k;
+      fault_problem_ = problem;
+    }
+  }
+
+  void run_one(std::uint64_t i, std::size_t k) {
+    try {
+      out_[i].verdict[k] = verdict_code(run_method(ms_[k], cases_[i]));
+    } catch (const std::exception& e) {
+      out_[i].verdict[k] = -1;
+      note_fault(first_ + i, k, e.what());
+    }
+  }
+
+  // A verdict on a camera path, kept when the case is one of the run's.
+  PathSink keep_verdicts(std::uint64_t path, std::size_t k) {
+    return [this, path, k](std::size_t frame, std::size_t object, const Answer& a) {
+      const std::uint64_t index = gen::path_case_index({path, frame, object});
+      if (index >= first_ && index < first_ + per_) out_[index - first_].verdict[k] = verdict_code(a);
+    };
+  }
+
+  // The truth of every case, in parallel, and the verdicts of the methods that are not stateful
+  // (off camera paths).
+  void run_case_by_case() {
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per_, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
+      for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
+        out_[i].truth = oracle::truth(cases_[i].frustum, cases_[i].volume);
+        out_[i].float_exact = gen::float_exact(cases_[i].frustum, cases_[i].volume);
+        out_[i].verdict.resize(ms_.size(), std::int8_t(-1));
+        if (!on_paths_)
+          for (std::size_t k = 0; k < ms_.size(); ++k)
+            if (!ms_[k].stateful) run_one(i, k);
+      }
+      progress_.add(r.size());
+    });
+  }
+
+  // On camera paths every method meets each frame as an engine does: prepared once, then the
+  // frame's objects classified in order (so a state leaking from one volume to the next within a
+  // frame is exercised); the methods that are not stateful frame by frame in parallel.
+  void run_path_frames() {
+    std::vector<std::pair<std::uint64_t, std::size_t>> frames;  // (path, frame) of the run's cases
+    for (std::uint64_t i = 0; i < per_; ++i) {
+      const gen::PathIndex at = gen::path_index(first_ + i);
+      if (frames.empty() || frames.back() != std::make_pair(at.path, at.frame)) frames.emplace_back(at.path, at.frame);
+    }
+    tbb::parallel_for(std::size_t(0), frames.size(), [&](std::size_t u) {
+      const auto [number, f] = frames[u];
+      const gen::CameraPath& cp = paths_.at(number);
+      for (std::size_t k = 0; k < ms_.size(); ++k) {
+        if (ms_[k].stateful) continue;
+        try {
+          run_path(ms_[k], cp.frames, f, f, cp.objects, keep_verdicts(number, k), /*reset=*/false);
+        } catch (const PathFault& e) {
+          note_fault(gen::path_case_index({number, e.frame, e.object}), k,
+                     fmt::format("{} (camera path frame {}, object {}; the frame's objects classified in order)",
+                                 e.what(), e.frame, e.object));
+        }
+      }
+    });
+  }
+
+  // Stateful methods on one thread: over each camera path from its first frame to the last frame a
+  // case of the run is on; elsewhere case by case, each a path of one frame.
+  void run_stateful() {
+    for (std::size_t k = 0; k < ms_.size(); ++k) {
+      if (!ms_[k].stateful) continue;
+      if (!on_paths_) {
+        for (std::uint64_t i = 0; i < per_; ++i) run_one(i, k);
+        continue;
+      }
+      for (const auto& [number, cp] : paths_) {
+        const std::uint64_t base = gen::path_case_index({number, 0, 0});
+        const std::uint64_t last = std::min(base + gen::kPathFrames * gen::kPathObjects, first_ + per_) - 1;
+        try {
+          run_path(ms_[k], cp.frames, 0, gen::path_index(last).frame, cp.objects, keep_verdicts(number, k));
+        } catch (const PathFault& e) {
+          note_fault(gen::path_case_index({number, e.frame, e.object}), k,
+                     fmt::format("{} (camera path frame {}, object {})", e.what(), e.frame, e.object));
+        }
+      }
+    }
+  }
+
+  void stop_at_first_fault() {
+    if (fault_index_ == std::numeric_limits<std::uint64_t>::max()) return;
+    progress_.finish();
+    const Method& m = ms_[fault_method_];
+    if (on_paths_) {
+      PathCase pc = path_case_at(fault_index_);
+      if (!m.stateful) pc.frames = {pc.frames.back()};
+      GenCase g = gen::path_case(paths_.at(gen::path_index(fault_index_).path), pc.frames.size() - 1, pc.object);
+      fault(opt_, m, d_, fault_index_, g, fault_problem_, &pc);
+    }
+    fault(opt_, m, d_, fault_index_, cases_[fault_index_ - first_], fault_problem_);
+  }
+
+  // The oracle's distance (an exact QP for outside volumes) and the case scale, once per case that
+  // some method got wrong, and the distance of each wrong verdict from the truth where a claim is
+  // judged on it, in parallel: they depend on the case and the verdict, not on the method.
+  void measure_errors() {
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per_, 16), [&](const tbb::blocked_range<std::uint64_t>& r) {
+      for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
+        CaseOutcome& o = out_[i];
+        bool erred = false;
+        for (std::size_t k = 0; k < ms_.size(); ++k) {
+          const std::int8_t v = o.verdict[k];
+          erred = erred || (v >= 0 && error_class(Visibility(v), o.truth, ms_[k].three_way) != ErrorClass::correct);
+        }
+        if (!erred) continue;
+        o.distance = oracle::classify(cases_[i].frustum, cases_[i].volume, oracle::Options{true, true, false}).distance;
+        o.scale = gen::case_scale(cases_[i].frustum, cases_[i].volume);
+        for (std::size_t k = 0; k < ms_.size(); ++k) {
+          const std::int8_t v = o.verdict[k];
+          if (v < 0 || o.verdict_distance[std::size_t(v)] != CaseOutcome::kUnmeasured) continue;
+          if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way), o.float_exact))
+            o.verdict_distance[std::size_t(v)] = error_distance(cases_[i].frustum, cases_[i].volume, Visibility(v));
+        }
+      }
+    });
+  }
+
+  // Timing frames, drawn once per set of volume kinds (methods that take the same kinds are timed
+  // on the same volumes).
+  std::map<unsigned, std::vector<KindedFrame>> timing_frames() const {
+    std::map<unsigned, std::vector<KindedFrame>> frames;
+    if (opt_.timing)
+      for (const Method& m : ms_)
+        if (!frames.count(m.volumes)) {
+          std::vector<KindedFrame>& fs = frames[m.volumes];
+          for (int j = 0; j < opt_.timing_frames; ++j)
+            fs.push_back(split(gen::draw_frame(d_, opt_.seed, std::uint64_t(j), opt_.frame_size, m.volumes)));
+        }
+    return frames;
+  }
+
+  // The distance a method's error is judged on (error_distance), measured where its claim needs it.
+  double judged_distance(std::size_t k, std::uint64_t i, ErrorClass cls) const {
+    if (!needs_distance(ms_[k].claim, cls, out_[i].float_exact)) return std::numeric_limits<double>::infinity();
+    return out_[i].verdict_distance[std::size_t(out_[i].verdict[k])];
+  }
+
+  // Method k's counts over the cases, and its errors recorded in the corpus.
+  MethodStats tally(std::size_t k) {
+    const Method& m = ms_[k];
+    MethodStats s;
+    s.method = m.name;
+    s.claim = m.claim;
+    s.origin = m.origin;
+    s.three_way = m.three_way;
+    s.volumes = m.volumes;
+    std::map<ErrorClass, int> written;
+    // Claim violations per class: (allowances beyond which the error lies, case).
+    constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+    std::map<ErrorClass, std::vector<std::pair<double, std::uint64_t>>> violating;
+    for (std::uint64_t i = 0; i < per_; ++i) {
+      if (out_[i].verdict[k] < 0) continue;
+      const Visibility t = out_[i].truth;
+      ++s.cases;
+      (t == Visibility::outside ? s.truth_outside : t == Visibility::inside ? s.truth_inside : s.truth_intersecting)++;
+      const ErrorClass cls = error_class(Visibility(out_[i].verdict[k]), t, m.three_way);
+      switch (cls) {
+        case ErrorClass::correct: continue;
+        case ErrorClass::false_reject: ++s.false_reject; break;
+        case ErrorClass::false_inside: ++s.false_inside; break;
+        case ErrorClass::false_intersect: ++s.false_intersect; break;
+        case ErrorClass::under_inside: ++s.under_inside; break;
+      }
+      const bool violation =
+          violates_claim(m.claim, cls, judged_distance(k, i, cls), m.tolerance, out_[i].scale, out_[i].float_exact);
+      if (violation && out_[i].float_exact) ++s.float_exact_violations;
+      if (violation) ++s.claim_violations;
+      if (violation && !s.first_violation) s.first_violation = first_ + i;
+      if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(out_[i].distance / cases_[i].scene_size);
+      // Corpus: corpus_per_class of the errors a claim allows (the expected false intersects and
+      // under-insides of conservative methods), the first ones; the claim violations are chosen
+      // below.
+      if (violation) {
+        const double allowance = m.tolerance * out_[i].scale;
+        const double d = judged_distance(k, i, cls);
+        violating[cls].push_back({std::isfinite(d) && allowance > 0.0 ? d / allowance : kUnbounded, i});
+      } else if (opt_.corpus && written[cls] < opt_.corpus_per_class) {
+        ++written[cls];
+        record(k, i, cls, false, s);
+      }
+    }
+    // Up to kViolationsPerClass claim violations per (method, distribution, class): those farthest
+    // beyond their allowance (the float-exact ones, with none, first), the clearest evidence that
+    // rounding does not explain them; the earlier case first among equals.
+    constexpr std::size_t kViolationsPerClass = 4;
+    if (opt_.corpus)
+      for (auto& [cls, v] : violating) {
+        std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+        for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j) record(k, v[j].second, cls, true, s);
+      }
+    return s;
+  }
+
+  // Shrinks method k's error on case i and writes it to the corpus. On a camera path, an error that
+  // needs what came before (earlier frames for a stateful method, the frame's earlier objects for
+  // any) is kept with its path.
+  void record(std::size_t k, std::uint64_t i, ErrorClass cls, bool violation, MethodStats& s) {
+    const Method& m = ms_[k];
+    const Visibility t = out_[i].truth;
+    auto alone_shows_it = [&] {
+      try {
+        const Answer a = run_method(m, cases_[i]);
+        return a && error_class(*a, t, m.three_way) == cls;
+      } catch (const std::exception&) {
+        return false;
+      }
+    };
+    std::optional<PathCase> path;
+    GenCase small;
+    if (on_paths_ && (m.stateful || !alone_shows_it())) {
+      PathCase pc = path_case_at(first_ + i);
+      if (!m.stateful) pc.frames = {pc.frames.back()};
+      path = shrink_path(std::move(pc), m, cls, t, opt_.shrink_budget);
+      small = cases_[i];
+    } else {
+      small = shrink(gen::draw(d_, opt_.seed, first_ + i), m, cls, violation, opt_.shrink_budget);
+    }
+    Answer vs;
+    try {
+      vs = path ? checked_classify_path(m, *path) : run_method(m, small);
+    } catch (const std::exception& e) {
+      progress_.finish();
+      fault(opt_, m, d_, first_ + i, small, e.what(), path ? &*path : nullptr);
+    }
+    if (!vs) return;
+    const CorpusRecord rec =
+        write_corpus_case(*opt_.corpus, small, m, *vs, d_, opt_.seed, first_ + i, ms_, path ? &*path : nullptr);
+    if (rec.written) s.corpus_written.push_back(rec.id);
+    // Evidence of a counted violation that the shrunk case still shows (shrinking keeps it).
+    if (violation && rec.violates &&
+        std::find(s.violation_ids.begin(), s.violation_ids.end(), rec.id) == s.violation_ids.end())
+      s.violation_ids.push_back(rec.id);
+  }
+
+  const VerifyOptions& opt_;
+  const std::vector<Method>& ms_;
+  const gen::Distribution d_;
+  Progress& progress_;
+  const std::uint64_t per_, first_;
+  const bool on_paths_;
+  std::vector<GenCase> cases_;
+  std::vector<CaseOutcome> out_;
+  std::map<std::uint64_t, gen::CameraPath> paths_;
+  std::mutex fault_mutex_;
+  std::uint64_t fault_index_ = std::numeric_limits<std::uint64_t>::max();
+  std::size_t fault_method_ = 0;
+  std::string fault_problem_;
+};
+
+}  // namespace
+
+VerifyResult run_verify(const VerifyOptions& opt) { return run_verify(opt, builtin_methods(opt.methods)); }
+
+VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms) {
+  const auto t_start = Clock::now();
+  {
+    std::set<std::string> names;
+    for (const Method& m : ms)
+      if (!names.insert(m.name).second) throw std::invalid_argument("two methods are named '" + m.name + "'");
+  }
+  const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+
+  VerifyResult result;
+  result.options = opt;
+  Progress progress(opt.progress, (opt.only_index ? 1 : opt.cases) * opt.distributions.size());
+  for (gen::Distribution d : opt.distributions) {
+    progress.label(std::string(gen::to_string(d)));
+    result.distributions.push_back(DistributionRun(opt, ms, d, progress).run());
+  }
+  progress.finish();
+  result.wall_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+  return result;
+}
+
+}  // namespace cullproof

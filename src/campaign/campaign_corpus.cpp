@@ -1,0 +1,133 @@
+// What a run keeps: the corpus case of an error, and the case that made a method fault (see
+// campaign_internal.hpp).
+#include "campaign_internal.hpp"
+
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/oracle/oracle.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace cullproof::detail {
+
+std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const Method& m) {
+  // A user's method is not in the command-line program: its test reruns the case from the
+  // environment (cullproof/gtest/gtest.hpp).
+  if (!m.program.empty())
+    return fmt::format("cullproof verify --seed {} --distribution {} --index {} --external {} -- {}", seed, gen::to_string(d),
+                       index, m.name, m.program);
+  if (m.origin == Origin::user)
+    return fmt::format("CULLPROOF_SEED={} CULLPROOF_DISTRIBUTION={} CULLPROOF_INDEX={} (environment of the test that verifies {})",
+                       seed, gen::to_string(d), index, m.name);
+  return fmt::format("cullproof verify --seed {} --distribution {} --index {} --method {}", seed, gen::to_string(d), index,
+                     m.name);
+}
+
+void set_judgement(nlohmann::json& x, const oracle::VerdictDistance& vd, const Method& m, double scale, bool float_exact) {
+  x.erase("backward_distance");
+  x["float_exact"] = float_exact;
+  x["verdict_distance"] = std::isfinite(vd.distance) ? nlohmann::json(vd.distance) : nlohmann::json(nullptr);
+  x["verdict_distance_kind"] = std::string(oracle::to_string(vd.shift));
+  x["tolerance"] = m.tolerance;
+  switch (m.claim) {
+    case Claim::certified_exact: x["allowance"] = m.tolerance * scale; break;
+    case Claim::conservative:
+    case Claim::exact: x["allowance"] = float_exact ? 0.0 : m.tolerance * scale; break;
+    default: x["allowance"] = nullptr; break;
+  }
+}
+
+CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& g, const Method& m, Visibility verdict,
+                              gen::Distribution d, std::uint64_t seed, std::uint64_t index,
+                              const std::vector<Method>& all, const PathCase* path) {
+  const oracle::Result r = oracle::classify(g.frustum, g.volume);
+  const ErrorClass cls = error_class(verdict, r.truth, m.three_way);
+  const std::string hash = geometry_hash(g.frustum, g.volume);
+  Case c;
+  c.id = fmt::format("{}-{}-{}", m.name, to_string(cls), hash);
+  c.frustum = g.frustum;
+  c.volume = g.volume;
+  c.truth = r.truth;
+  c.note = fmt::format("{} says {} where the truth is {} ({}); found by the {} distribution", m.name,
+                       to_string(verdict), to_string(r.truth), to_string(cls), gen::to_string(d));
+  nlohmann::json& x = c.extra;
+  x["method"] = m.name;
+  x["verdict"] = std::string(to_string(verdict));
+  x["class"] = to_string(cls);
+  x["claim"] = std::string(to_string(m.claim));
+  x["origin"] = std::string(to_string(m.origin));
+  if (!m.three_way) x["two_way"] = true;
+  const double scale = gen::case_scale(g.frustum, g.volume);
+  const bool exact_case = gen::float_exact(g.frustum, g.volume);
+  const oracle::VerdictDistance vd = oracle::distance_to_verdict(g.frustum, g.volume, verdict);
+  const bool violates = violates_claim(m.claim, cls, vd.distance, m.tolerance, scale, exact_case);
+  x["violates_claim"] = violates;
+  x["float_exact"] = exact_case;
+  set_judgement(x, vd, m, scale, exact_case);
+  x["distribution"] = std::string(gen::to_string(d));
+  x["distance"] = std::isfinite(r.distance) ? nlohmann::json(r.distance) : nlohmann::json(nullptr);
+  x["distance_kind"] = oracle::to_string(r.distance_kind);
+  x["scale"] = scale;
+  x["scene_size"] = g.scene_size;
+  x["witness"] = oracle::to_json(r.witness);
+  x["seed"] = seed;
+  x["index"] = index;
+  x["reproduce"] = reproduce_command(seed, d, index, m);
+  if (path) x["path"] = to_json(*path);
+  nlohmann::json verdicts = nlohmann::json::object();
+  for (const Method& o : all)
+    if (auto v = path ? checked_classify_path(o, *path) : run_method(o, g))
+      verdicts[o.name] = std::string(to_string(*v));
+  x["verdicts"] = verdicts;
+  const auto file = dir / m.name / gen::to_string(d) / fmt::format("{}-{}.json", to_string(cls), hash);
+  if (std::filesystem::exists(file)) return {c.id, false, violates};
+  try {
+    write_case_file(file, c, /*overwrite=*/false);
+  } catch (const std::runtime_error&) {
+    if (std::filesystem::exists(file)) return {c.id, false, violates};  // written meanwhile: the same geometry
+    throw;
+  }
+  return {c.id, true, violates};
+}
+
+[[noreturn]] void fault(const VerifyOptions& opt, const Method& m, gen::Distribution d, std::uint64_t index,
+                        const GenCase& g, const std::string& problem, const PathCase* path) {
+  Case c;
+  c.id = fmt::format("{}-fault-{}", m.name, geometry_hash(g.frustum, g.volume));
+  c.frustum = g.frustum;
+  c.volume = g.volume;
+  c.note = problem;
+  c.extra["method"] = m.name;
+  c.extra["fault"] = problem;
+  c.extra["distribution"] = std::string(gen::to_string(d));
+  c.extra["seed"] = opt.seed;
+  c.extra["index"] = index;
+  c.extra["reproduce"] = reproduce_command(opt.seed, d, index, m);
+  if (path) c.extra["path"] = to_json(*path);
+  std::optional<std::filesystem::path> dir = opt.faults;
+  if (!dir && opt.corpus) dir = *opt.corpus / "faults";
+  std::optional<std::filesystem::path> saved;
+  std::string where = "not saved (no corpus folder)";
+  if (dir) {
+    const auto file = *dir / m.name / fmt::format("{}.json", geometry_hash(g.frustum, g.volume));
+    try {
+      if (!std::filesystem::exists(file)) write_case_file(file, c, /*overwrite=*/false);
+      saved = file;
+      where = "saved to " + file.string();
+    } catch (const std::exception& e) {
+      where = std::string("could not be saved: ") + e.what();
+    }
+  }
+  const std::string line = format_case(c);
+  const nlohmann::json j = nlohmann::json::parse(line);
+  throw MethodFault(fmt::format("{}\n  on case {} of distribution {} (seed {}); the run is incomplete, no results are reported\n"
+                                "  reproduce: {}\n  case {}\n  {}",
+                                problem, index, gen::to_string(d), opt.seed, reproduce_command(opt.seed, d, index, m),
+                                where, line),
+                    m.name, j, saved);
+}
+
+}  // namespace cullproof::detail

@@ -1,0 +1,91 @@
+// The mismatch corpus (corpus/): one case per file, corpus/<method>/<distribution>/<class>-<hash>.json,
+// in the case format of docs/semantics.md plus the mismatch record (method, verdict, class, truth,
+// witness, distance, seed, reproduce command, every method's verdict on the case).
+#pragma once
+
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/io/case_io.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cullproof {
+
+/// One corpus file and the mismatch it records.
+struct CorpusEntry {
+  std::filesystem::path file;
+  Case c;
+  std::string method;        ///< the method whose error this case records
+  Visibility verdict{};      ///< its recorded verdict
+  ErrorClass error{};        ///< recorded class
+  std::string distribution;  ///< where the campaign found it
+  /// For a stateful method's error on a camera path: the path it needs (field "path"); the
+  /// case's frustum and volume are its last frame and its object. Stateful methods are replayed
+  /// over it, the others on the case alone.
+  std::optional<PathCase> path;
+};
+
+/// 12 hex digits identifying the geometry (FNV-1a of the canonical frustum and volume text).
+std::string geometry_hash(const CaseFrustum& f, const Volume& v);
+/// The mismatch case files under `dir` (every *.json, sorted by path), leaving out the scene
+/// directories corpus/scenes/ and corpus/scenes-*/ and the fault records under corpus/faults/.
+/// The temporary file a writer killed mid-write may leave (".<name>.tmp-<pid>-<n>", see
+/// write_file_atomic) does not end in ".json" and is not listed.
+std::vector<std::filesystem::path> corpus_case_files(const std::filesystem::path& dir);
+/// Reads every case file under `dir` (corpus_case_files). Throws CaseError for a malformed file and
+/// std::runtime_error for a file that lacks the mismatch record (naming the file and field).
+std::vector<CorpusEntry> load_corpus(const std::filesystem::path& dir);
+/// The mismatch record of a case read from `file`: its truth, method, verdict, class and
+/// distribution, and its camera path if it has one. Throws std::runtime_error naming the file and
+/// the field that is missing or wrong.
+CorpusEntry corpus_entry(Case c, const std::filesystem::path& file);
+/// A corpus file's text as load_corpus reads it (parse_case, then corpus_entry). Throws CaseError
+/// or std::runtime_error naming `file`.
+CorpusEntry parse_corpus_entry(std::string_view text, const std::filesystem::path& file);
+
+/// Outcome of replaying one corpus entry.
+struct ReplayResult {
+  const CorpusEntry* entry = nullptr;
+  Visibility truth_now{};
+  bool truth_changed = false;            ///< the oracle disagrees with the recorded truth
+  std::optional<Visibility> verdict_now; ///< the method's verdict now (nullopt: method gone)
+  bool reproduces = false;               ///< the recorded verdict is given again
+  bool fixed = false;                    ///< the method now agrees with the truth
+  std::vector<std::string> regressed;    ///< methods that were correct in the record and now are not
+  std::vector<std::string> changed;      ///< methods whose verdict differs from the record
+};
+/// Re-runs the oracle and every recorded built-in method on the entry.
+ReplayResult replay(const CorpusEntry& e);
+/// The same with `methods` (a user's corpus records the user's methods).
+ReplayResult replay(const CorpusEntry& e, const std::vector<Method>& methods);
+
+/// One record whose "verdicts" entry for a method was taken again.
+struct Rerecorded {
+  std::filesystem::path file;
+  std::string before, after;  ///< the recorded verdict and the one now ("" when it does not apply)
+};
+/// After a deliberate change to method `m`: takes its verdict again in the "verdicts" of every
+/// record under `dir` that lists it, and rewrites (atomically) the records where it changed.
+/// Records of m's own errors are left alone: evidence that no longer reproduces is moved out of the
+/// corpus by hand. Returns the records rewritten.
+std::vector<Rerecorded> rerecord_verdicts(const std::filesystem::path& dir, const Method& m);
+
+/// One record judged again by the judge as it is now.
+struct Rejudged {
+  std::filesystem::path file;
+  std::string id;
+  bool violated_before = false, violates_now = false;  ///< its "violates_claim", recorded and now
+  double distance = 0.0;    ///< error_distance now
+  double allowance = 0.0;   ///< the distance within which the claim forgives it (0: none)
+};
+/// After a change to the judge (error_distance, violates_claim): judges every record under `dir`
+/// of a method among `methods` again, with its claim and tolerance, and rewrites (atomically) each
+/// record whose judgement fields ("violates_claim", "float_exact", "verdict_distance", its kind,
+/// "tolerance", "allowance") differ from what the judge says now. Records whose truth changed are left to
+/// `replay`. Returns the records rewritten.
+std::vector<Rejudged> rejudge(const std::filesystem::path& dir, const std::vector<Method>& methods);
+
+}  // namespace cullproof

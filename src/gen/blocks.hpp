@@ -1,0 +1,110 @@
+// The building blocks of the case families (src/gen, not installed): random draws inside a
+// RapidCheck generator, cameras and their frusta, where volumes are placed, exact frames; and each
+// family's case, which the registry of distributions (distributions.cpp) names.
+#pragma once
+
+#include "cullproof/core/frustum_build.hpp"
+#include "cullproof/gen/generators.hpp"
+
+#include <array>
+#include <functional>
+
+namespace cullproof::gen::detail {
+
+// ---- Draws (inside rc::gen::exec) ----------------------------------------------------------
+/// A double in [0, 1], shrinking towards 0.
+rc::Gen<double> unit();
+double in(double lo, double hi);
+double log_in(double lo_exp10, double hi_exp10);
+bool coin(int percent_true);
+int pick(int n);
+glm::dvec3 unit_vector();
+/// A rotation from three uniforms (Shoemake), as a float matrix: orthonormal only up to rounding.
+glm::mat3 rotation();
+
+// ---- Cameras -------------------------------------------------------------------------------
+// What a camera generator decides; the matrix and the planes follow from it.
+struct Camera {
+  glm::vec3 eye{0.0f};
+  glm::vec3 dir{0.0f, 0.0f, -1.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  bool ortho = false;
+  float l = -1, r = 1, b = -1, t = 1;  // window at the near plane (ortho: the box)
+  float n = 1, f = 100;
+  bool infinite = false;
+  DepthConvention depth;
+  bool as_matrix = false;
+  bool normalize = false;
+};
+
+/// A projection turned to reversed Z (depth 1 at the near plane) in the given range.
+glm::mat4 reverse_depth(const glm::mat4& proj, DepthRange range);
+glm::mat4 projection(const Camera& c, bool finite_only);
+glm::mat4 view_matrix(const Camera& c);
+CaseFrustum realize(const Camera& c);
+/// The generic camera: anywhere, looking anywhere.
+Camera generic_camera();
+DepthConvention any_depth();
+
+// ---- Placing volumes -----------------------------------------------------------------------
+// The frustum's bounded part used to place volumes (an infinite far plane is brought in to
+// 1000 near distances); corners in double.
+struct Placement {
+  std::array<glm::dvec3, 8> corner{};
+  glm::dvec3 center{0.0};
+  double size = 1.0;  // diameter
+  bool ok = false;
+};
+
+Placement placement_of(const Frustum& f);
+Placement placement_for(const Camera& c);
+enum class Shape { point, sphere, aabb, obb };
+Shape any_shape();
+/// A volume of the given shape centred at c with typical half-size s (each axis 0.1..1 of s).
+Volume volume_at(Shape shape, const glm::dvec3& c, double s);
+double rel_size(double lo_exp, double hi_exp);
+Volume near_boundary(const Placement& p, Shape shape, double s);
+Volume near_corner(const Placement& p, Shape shape, double s);
+GenCase make(const Camera& cam, const Placement& p, Volume v);
+/// A volume of generic distribution d around placement p (its draws follow the camera's).
+Volume generic_volume(Distribution d, const Placement& p);
+/// The largest coordinate magnitude of a volume, its extent included (double: no overflow).
+double volume_magnitude(const Volume& v);
+
+// ---- Exact frames (touch.cpp) ----------------------------------------------------------------
+// View space frustum with integer planes: glm::frustum(-n, n, -n, n, n, f) in [-1,1], so
+// |x| <= -z, |y| <= -z, z in [-f, -n]; f/n in {2, 3, 5, 9} keeps every matrix entry dyadic. The
+// world transform is an axis permutation with signs and an integer translation: exact.
+struct ExactFrame {
+  glm::mat3 rot{1.0f};  // world = rot * view + shift
+  glm::vec3 shift{0.0f};
+  float n = 1, f = 3;
+};
+
+ExactFrame exact_frame();
+glm::mat4 view_of(const ExactFrame& e);
+CaseFrustum exact_frustum(const ExactFrame& e, bool as_matrix);
+glm::vec3 to_world(const ExactFrame& e, glm::vec3 v);
+Aabb world_box(const ExactFrame& e, glm::vec3 lo, glm::vec3 hi);
+/// A dyadic value in [lo, hi] with at most 4 fractional bits.
+float dyadic(float lo, float hi);
+
+// ---- The families: one case each -------------------------------------------------------------
+GenCase generic_case(Distribution d);                   // generic.cpp
+/// `frustum`: how the case's frustum is made from its frame (unset: the touch family's, planes or
+/// an OpenGL matrix).
+GenCase touch_case(bool nudge, const std::function<CaseFrustum(const ExactFrame&)>& frustum = nullptr);  // touch.cpp
+GenCase contact_case();                                  // contact.cpp
+GenCase far_offset_case();                               // hard.cpp
+GenCase tiny_near_case();
+GenCase reversed_infinite_case();
+GenCase extreme_fov_case();
+GenCase ill_conditioned_case();
+GenCase rod_case();
+GenCase huge_case();                                     // float_range.cpp
+GenCase subnormal_case();
+GenCase exact_touching_case();                           // integer_frusta.cpp
+GenCase exact_containment_case();
+GenCase exact_degenerate_case();
+
+}  // namespace cullproof::gen::detail

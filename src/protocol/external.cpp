@@ -1,0 +1,339 @@
+// The process protocol, cullproof's side (see cullproof/protocol/external.hpp and docs/protocol.md).
+//
+// The child runs with pipes on its stdin and stdout (stderr is inherited, for its own messages).
+// POSIX fork/exec and poll() are used directly: the protocol needs a read with a deadline on a
+// line-oriented pipe and nothing more. SIGPIPE is ignored for the write, so a program that has
+// exited is reported as such instead of killing cullproof.
+#include "cullproof/protocol/external.hpp"
+
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/io/limits.hpp"
+#include "cullproof/protocol/protocol.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace cullproof {
+
+namespace {
+
+using nlohmann::json;
+
+// A float as the protocol writes it: the shortest decimal that reads back to it, unless reading
+// that decimal as a double and rounding to float would not (double rounding); then the shortest
+// decimal of the float's exact double value, which both readings recover exactly.
+std::string number(float x) {
+  const std::string d = format_float(x);
+  if (float(std::strtod(d.c_str(), nullptr)) == x) return d;
+  return fmt::format("{}", double(x));
+}
+
+std::string vec3(const glm::vec3& v) { return "[" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + "]"; }
+
+std::string volume_text(const Volume& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, Point>) return "{\"point\": " + vec3(x) + "}";
+        else if constexpr (std::is_same_v<T, Sphere>)
+          return "{\"sphere\": {\"center\": " + vec3(x.center) + ", \"radius\": " + number(x.radius) + "}}";
+        else if constexpr (std::is_same_v<T, Aabb>)
+          return "{\"aabb\": {\"min\": " + vec3(x.min) + ", \"max\": " + vec3(x.max) + "}}";
+        else
+          return "{\"obb\": {\"center\": " + vec3(x.center) + ", \"axes\": [" + vec3(x.axes[0]) + ", " + vec3(x.axes[1]) +
+                 ", " + vec3(x.axes[2]) + "], \"half\": " + vec3(x.half) + "}}";
+      },
+      v);
+}
+
+std::string frustum_text(const CaseFrustum& f) {
+  std::string s = "{\"planes\": [";
+  for (int k = 0; k < kPlaneCount; ++k)
+    s += (k ? ", [" : "[") + number(f.planes[k].n.x) + ", " + number(f.planes[k].n.y) + ", " + number(f.planes[k].n.z) +
+         ", " + number(f.planes[k].d) + "]";
+  s += "]";
+  if (f.matrix) {
+    s += ", \"matrix\": [";
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) s += (c || r ? ", " : "") + number((*f.matrix)[c][r]);
+    s += fmt::format("], \"depth\": \"{}\", \"reversed_z\": {}",
+                     f.depth.range == DepthRange::negative_one_to_one ? "negative_one_to_one" : "zero_to_one",
+                     f.depth.reversed_z ? "true" : "false");
+  }
+  return s + "}";
+}
+
+using protocol::excerpt;
+
+// The running program: one request at a time (the methods' calls are serialised here).
+class Process {
+ public:
+  explicit Process(ExternalOptions o) : opt_(std::move(o)) {
+    if (opt_.command.empty()) throw std::runtime_error("external: no program given");
+    name_ = opt_.command[0];
+    for (std::size_t i = 1; i < opt_.command.size(); ++i) name_ += " " + opt_.command[i];
+    int in[2], out[2];
+    if (::pipe(in) != 0 || ::pipe(out) != 0) throw std::runtime_error("external: cannot make pipes: " + std::string(std::strerror(errno)));
+    std::signal(SIGPIPE, SIG_IGN);
+    pid_ = ::fork();
+    if (pid_ < 0) throw std::runtime_error("external: cannot fork: " + std::string(std::strerror(errno)));
+    if (pid_ == 0) {
+      ::dup2(in[0], 0);
+      ::dup2(out[1], 1);
+      ::close(in[0]), ::close(in[1]), ::close(out[0]), ::close(out[1]);
+      std::vector<char*> argv;
+      for (std::string& a : opt_.command) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execvp(argv[0], argv.data());
+      std::fprintf(stderr, "external: cannot run '%s': %s\n", argv[0], std::strerror(errno));
+      ::_exit(127);
+    }
+    ::close(in[0]);
+    ::close(out[1]);
+    to_ = in[1];
+    from_ = out[0];
+    ::fcntl(to_, F_SETFL, ::fcntl(to_, F_GETFL) | O_NONBLOCK);  // writes wait with the timeout too
+  }
+  ~Process() {
+    if (to_ >= 0) {
+      (void)write_all("{\"bye\": true}\n");
+      ::close(to_);
+    }
+    if (from_ >= 0) ::close(from_);
+    if (pid_ > 0) {
+      int status = 0;
+      for (int i = 0; i < 50 && ::waitpid(pid_, &status, WNOHANG) == 0; ++i) ::usleep(10000);
+      if (::waitpid(pid_, &status, WNOHANG) == 0) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status, 0);
+      }
+    }
+  }
+  const std::string& name() const { return name_; }
+
+  // Reads one line of at most `max_bytes` within the timeout; throws naming `what` was awaited
+  // (and, for a longer line, `line_name` and `limit`: "its handshake", "a handshake").
+  std::string read_line(const std::string& what, std::size_t max_bytes, const std::string& line_name,
+                        const std::string& limit) {
+    std::size_t scanned = 0;  // the first `scanned` bytes of buffer_ hold no '\n'
+    for (;;) {
+      const auto nl = buffer_.find('\n', scanned);
+      if (nl != std::string::npos && nl <= max_bytes) {
+        std::string line = buffer_.substr(0, nl);
+        buffer_.erase(0, nl + 1);
+        return line;
+      }
+      if (nl != std::string::npos || buffer_.size() > max_bytes)
+        fail(fmt::format("{} is a line longer than {}, the limit for {}: {}", line_name, byte_count_text(max_bytes), limit,
+                         excerpt(buffer_)));
+      scanned = buffer_.size();
+      pollfd p{from_, POLLIN, 0};
+      const int r = ::poll(&p, 1, int(opt_.timeout.count()));
+      if (r == 0)
+        fail(fmt::format("no answer within {} ms to {} (hung? the timeout is --external-timeout)", opt_.timeout.count(), what));
+      if (r < 0) fail("cannot read its output: " + std::string(std::strerror(errno)));
+      char chunk[65536];
+      const ssize_t n = ::read(from_, chunk, sizeof chunk);
+      if (n <= 0) fail(fmt::format("exited{} before answering {}", exit_status(), what));
+      buffer_.append(chunk, std::size_t(n));
+    }
+  }
+
+  void send(const std::string& line, const std::string& what) {
+    if (!write_all(line + "\n")) fail(fmt::format("exited{} or stopped reading before it read {}", exit_status(), what));
+  }
+
+  // After a fault the program is not asked again: every later call fails at once (the run stops
+  // at the fault with the smallest case index, which may be an earlier case on another thread).
+  [[noreturn]] void fail(const std::string& why) {
+    if (dead_.empty()) dead_ = why;
+    throw std::runtime_error("external program '" + name_ + "': " + why);
+  }
+  void check_alive() {
+    if (!dead_.empty()) throw std::runtime_error("external program '" + name_ + "': not asked again after: " + dead_);
+  }
+
+  std::mutex mutex;
+  std::uint64_t next_frame = 1;
+
+ private:
+  std::string dead_;
+  // False when the program is gone or has not read its input within the timeout.
+  bool write_all(const std::string& s) {
+    std::size_t done = 0;
+    while (done < s.size()) {
+      const ssize_t n = ::write(to_, s.data() + done, s.size() - done);
+      if (n > 0) {
+        done += std::size_t(n);
+        continue;
+      }
+      if (n < 0 && errno == EAGAIN) {
+        pollfd p{to_, POLLOUT, 0};
+        if (::poll(&p, 1, int(opt_.timeout.count())) > 0 && !(p.revents & (POLLERR | POLLHUP))) continue;
+      }
+      return false;
+    }
+    return true;
+  }
+  std::string exit_status() {
+    int status = 0;
+    ::usleep(20000);
+    if (::waitpid(pid_, &status, WNOHANG) != pid_) return "";
+    pid_ = -1;
+    if (WIFEXITED(status)) return fmt::format(" (status {})", WEXITSTATUS(status));
+    if (WIFSIGNALED(status)) return fmt::format(" (signal {})", WTERMSIG(status));
+    return "";
+  }
+
+  ExternalOptions opt_;
+  std::string name_;
+  pid_t pid_ = -1;
+  int to_ = -1, from_ = -1;
+  std::string buffer_;
+};
+
+struct External {
+  std::vector<std::shared_ptr<Process>> processes;  // the program's copies; [0] for stateful methods
+  std::string method;
+  bool stateful = false;
+  bool wants_reset = false;   // set by reset(): the next frame starts a camera path
+  bool wants_matrix = false;  // asked only about frusta given by a clip matrix
+  // What the program reported of its own time ("ns" in answers), under own_mutex.
+  std::mutex own_mutex;
+  double own_ns = 0.0;
+  std::uint64_t own_volumes = 0;
+  std::atomic<std::size_t> next{0};  // where the search for a free copy starts
+
+  // A copy to ask, locked: the first copy for a stateful method, else the first free one from a
+  // rotating start, else (all busy) the next in turn, waited for.
+  std::pair<Process&, std::unique_lock<std::mutex>> acquire() {
+    if (stateful || processes.size() == 1) return {*processes[0], std::unique_lock<std::mutex>(processes[0]->mutex)};
+    const std::size_t start = next++ % processes.size();
+    for (std::size_t k = 0; k < processes.size(); ++k) {
+      Process& p = *processes[(start + k) % processes.size()];
+      std::unique_lock<std::mutex> g(p.mutex, std::try_to_lock);
+      if (g.owns_lock()) return {p, std::move(g)};
+    }
+    return {*processes[start], std::unique_lock<std::mutex>(processes[start]->mutex)};
+  }
+};
+
+// One frame message and its answer: verdicts for `volumes`, in order.
+void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::size_t n, Answer* out) {
+  auto [p, lock] = e.acquire();
+  p.check_alive();
+  const std::uint64_t id = p.next_frame++;
+  std::string msg = fmt::format("{{\"frame\": {}, \"method\": {}, ", id, json(e.method).dump());
+  if (e.wants_reset) msg += "\"reset\": true, ";
+  e.wants_reset = false;
+  msg += "\"frustum\": " + frustum_text(f) + ", \"volumes\": [";
+  for (std::size_t i = 0; i < n; ++i) msg += (i ? ", " : "") + volumes[i];
+  msg += "]}";
+  const std::string what = fmt::format("frame {} ({} volume(s) for method '{}')", id, n, e.method);
+  p.send(msg, what);
+  const std::string line =
+      p.read_line(what, kMaxAnswerBytes + n * kMaxAnswerBytesPerVolume, "its answer to " + what,
+                  fmt::format("an answer about {} volume(s) ({} KiB and {} bytes a volume)", n, kMaxAnswerBytes >> 10,
+                              kMaxAnswerBytesPerVolume));
+  protocol::Reply r;
+  try {
+    r = protocol::parse_answer(line, id, n, what);
+  } catch (const std::runtime_error& bad) {
+    p.fail(bad.what());
+  }
+  if (r.ns) {
+    std::lock_guard<std::mutex> g(e.own_mutex);
+    e.own_ns += *r.ns;
+    e.own_volumes += n;
+  }
+  std::copy(r.verdicts.begin(), r.verdicts.end(), out);
+}
+
+class Prepared : public PreparedFrustum {
+ public:
+  Prepared(std::shared_ptr<External> e, CaseFrustum f) : e_(std::move(e)), f_(std::move(f)) {}
+  Answer classify(const Volume& v) override {
+    const std::string t = volume_text(v);
+    Answer a;
+    ask(*e_, f_, &t, 1, &a);
+    return a;
+  }
+  void classify_batch(const Point* v, std::size_t n, Answer* a) override { many(v, n, a); }
+  void classify_batch(const Sphere* v, std::size_t n, Answer* a) override { many(v, n, a); }
+  void classify_batch(const Aabb* v, std::size_t n, Answer* a) override { many(v, n, a); }
+  void classify_batch(const Obb* v, std::size_t n, Answer* a) override { many(v, n, a); }
+
+ private:
+  template <class K>
+  void many(const K* v, std::size_t n, Answer* a) {
+    if (n == 0) return;
+    std::vector<std::string> t;
+    t.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) t.push_back(volume_text(Volume{v[i]}));
+    ask(*e_, f_, t.data(), n, a);
+  }
+  std::shared_ptr<External> e_;
+  CaseFrustum f_;
+};
+
+}  // namespace
+
+std::vector<Method> external_methods(const ExternalOptions& options) {
+  if (options.instances < 1) throw std::invalid_argument("external: instances must be at least 1");
+  std::vector<std::shared_ptr<Process>> processes;
+  std::vector<std::string> handshakes;
+  for (int i = 0; i < options.instances; ++i) {
+    processes.push_back(std::make_shared<Process>(options));
+    handshakes.push_back(processes.back()->read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake"));
+    if (handshakes.back() != handshakes[0])
+      processes.back()->fail(fmt::format("copy {} of the program offered another handshake than the first: {}", i + 1,
+                                         excerpt(handshakes.back())));
+  }
+  const std::shared_ptr<Process>& process = processes[0];
+  std::vector<Method> out;
+  for (protocol::OfferedMethod& offered : protocol::parse_handshake(handshakes[0], process->name())) {
+    MethodInfo info = std::move(offered.info);
+    info.program = process->name();
+    auto e = std::make_shared<External>();
+    e->processes = processes;
+    e->method = info.name;
+    e->stateful = info.stateful;
+    e->wants_matrix = offered.wants_matrix;
+    Method method(
+        info,
+        [e](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> {
+          if (e->wants_matrix && !f.matrix) return nullptr;  // does not apply: the case gives planes only
+          return std::make_unique<Prepared>(e, f);
+        },
+        /*batch=*/true);
+    method.on_reset([e] { e->wants_reset = true; });
+    method.on_own_timing([e] {
+      std::lock_guard<std::mutex> g(e->own_mutex);
+      const std::pair<double, std::uint64_t> r{e->own_ns, e->own_volumes};
+      e->own_ns = 0.0;
+      e->own_volumes = 0;
+      return r;
+    });
+    out.push_back(std::move(method));
+  }
+  return out;
+}
+
+}  // namespace cullproof

@@ -1,0 +1,48 @@
+// The process protocol's messages from a program (docs/protocol.md), read from one line of text:
+// the handshake and the answer to a frame. external.cpp runs the program and hands each line it
+// reads (already within the line limits of cullproof/protocol/external.hpp) to these readers, which hold no
+// state and can be tested on any text.
+#pragma once
+
+#include "cullproof/methods/methods.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cullproof::protocol {
+
+/// A method a program offers, as its handshake describes it.
+struct OfferedMethod {
+  /// name, description, source, claim, tolerance, volumes, three_way, stateful, touching and origin
+  /// (user unless "published"); `program` is left empty.
+  MethodInfo info;
+  bool wants_matrix = false;  ///< "frustum": "matrix": asked only about frusta given by a clip matrix
+};
+
+/// Reads the handshake line of the program whose command line is `program`. Throws
+/// std::runtime_error "external program '<program>': ..." naming what is wrong: a line that is not
+/// JSON or nests past kMaxProtocolDepth, another protocol version, no methods, a method without a
+/// name or named twice, a field of the wrong type or outside its list of values.
+std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::string& program);
+
+/// A program's answer to one frame.
+struct Reply {
+  std::vector<Answer> verdicts;  ///< one per volume, in order; std::nullopt: does not apply
+  std::optional<double> ns;      ///< the program's own time for the frame, when it gives one
+};
+
+/// Reads the answer line to frame number `frame` of `volumes` volumes; `what` names the frame in
+/// messages ("frame 3 (1 volume(s) for method 'x')"). Throws std::runtime_error "answered <what>
+/// ..." for a line that is not JSON or nests past kMaxProtocolDepth, another frame number, an
+/// "error" the program reports, a missing "verdicts" array or one of another length, a verdict
+/// that is not "outside", "intersecting", "inside" or null, or an "ns" that is not a number >= 0.
+Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volumes, const std::string& what);
+
+/// A line as messages quote it: its first 200 bytes, then "..." if there is more.
+std::string excerpt(std::string_view line);
+
+}  // namespace cullproof::protocol

@@ -1,0 +1,171 @@
+// Reading the process protocol's messages (see cullproof/protocol/protocol.hpp and docs/protocol.md). Every
+// field is checked for its type before it is read, so a message of the wrong shape is refused with
+// the field named, never with a JSON library's type error.
+#include "cullproof/protocol/protocol.hpp"
+
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/io/limits.hpp"
+#include "cullproof/protocol/external.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <set>
+#include <stdexcept>
+
+namespace cullproof::protocol {
+
+using nlohmann::json;
+
+std::string excerpt(std::string_view line) {
+  return printable_text(line.substr(0, 200)) + (line.size() > 200 ? "..." : "");
+}
+
+namespace {
+
+// The optional field `key` of the object `m`: its value, `fallback` when absent; `at` names the
+// object in the error for a value of the wrong type.
+std::string string_field(const json& m, const char* key, const std::string& fallback, const std::string& at) {
+  const auto it = m.find(key);
+  if (it == m.end()) return fallback;
+  if (!it->is_string()) throw std::runtime_error(fmt::format("{}: \"{}\" {} is not a string", at, key, excerpt(it->dump())));
+  return it->get<std::string>();
+}
+
+bool bool_field(const json& m, const char* key, bool fallback, const std::string& at) {
+  const auto it = m.find(key);
+  if (it == m.end()) return fallback;
+  if (!it->is_boolean()) throw std::runtime_error(fmt::format("{}: \"{}\" {} is not true or false", at, key, excerpt(it->dump())));
+  return it->get<bool>();
+}
+
+unsigned kinds_of(const json& j, const std::string& where) {
+  unsigned k = 0;
+  if (!j.is_array() || j.empty()) throw std::runtime_error(where + ": \"volumes\" must be a non-empty array of kinds");
+  for (const json& x : j) {
+    const std::string s = x.is_string() ? x.get<std::string>() : std::string();
+    if (s == "point") k |= kPointKind;
+    else if (s == "sphere") k |= kSphereKind;
+    else if (s == "aabb") k |= kAabbKind;
+    else if (s == "obb") k |= kObbKind;
+    else throw std::runtime_error(where + ": unknown volume kind " + excerpt(x.dump()) + " (point, sphere, aabb, obb)");
+  }
+  return k;
+}
+
+}  // namespace
+
+std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::string& program) {
+  const std::string who = "external program '" + program + "': ";
+  json h;
+  try {
+    h = parse_json_limited(line, kMaxProtocolDepth, "a protocol message");
+  } catch (const InputLimitError& limit) {
+    throw std::runtime_error(who + "its handshake has " + limit.what() + ": " + excerpt(line));
+  } catch (const json::exception&) {
+    throw std::runtime_error(who + "its handshake is not JSON: " + excerpt(line));
+  }
+  const std::string where = who + "handshake";
+  if (!h.is_object() || !h.contains("protocol") || !h["protocol"].is_number_integer())
+    throw std::runtime_error(where + ": no \"protocol\" version number");
+  // Compared as the number written (an unsigned 64-bit or a signed one), never narrowed to int.
+  const json& version = h["protocol"];
+  const bool ours = version.is_number_unsigned() ? version.get<std::uint64_t>() == std::uint64_t(kProtocolVersion)
+                                                  : version.get<std::int64_t>() == kProtocolVersion;
+  if (!ours)
+    throw std::runtime_error(fmt::format("{}: protocol version {}, this cullproof speaks version {}", where, version.dump(),
+                                         kProtocolVersion));
+  if (!h.contains("methods") || !h["methods"].is_array() || h["methods"].empty())
+    throw std::runtime_error(where + ": no \"methods\" array");
+  std::vector<OfferedMethod> out;
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < h["methods"].size(); ++i) {
+    const json& m = h["methods"][i];
+    const std::string at = fmt::format("{}, methods[{}]", where, i);
+    if (!m.is_object() || !m.contains("name") || !m["name"].is_string() || m["name"].get<std::string>().empty())
+      throw std::runtime_error(at + ": no \"name\"");
+    OfferedMethod o;
+    MethodInfo& info = o.info;
+    info.name = m["name"].get<std::string>();
+    if (!names.insert(info.name).second)
+      throw std::runtime_error(at + ": \"name\" " + excerpt(json(info.name).dump()) + " is offered twice");
+    info.origin = Origin::user;
+    info.description = string_field(m, "description", "external program: " + program, at);
+    info.source = string_field(m, "source", program, at);
+    const std::string claim = string_field(m, "claim", "none", at);
+    try {
+      info.claim = claim_from_string(claim);
+    } catch (const std::invalid_argument&) {
+      std::string known;
+      for (Claim c : {Claim::certified_conservative, Claim::certified_exact, Claim::conservative, Claim::exact, Claim::none})
+        known += (known.empty() ? "" : ", ") + std::string(to_string(c));
+      throw std::runtime_error(at + ": \"claim\" " + excerpt(json(claim).dump()) + " is not a claim (" + known + ")");
+    }
+    if (const auto t = m.find("tolerance"); t != m.end()) {
+      if (!t->is_number() || !(t->get<double>() >= 0.0))
+        throw std::runtime_error(at + ": \"tolerance\" " + excerpt(t->dump()) + " is not a number >= 0");
+      info.tolerance = t->get<double>();
+    }
+    info.volumes = kinds_of(m.contains("volumes") ? m["volumes"] : json(), at);
+    info.three_way = bool_field(m, "three_way", true, at);
+    info.stateful = bool_field(m, "stateful", false, at);
+    info.touching = string_field(m, "touching", std::string(), at);
+    const std::string origin = string_field(m, "origin", "user", at);
+    if (origin == "published") info.origin = Origin::published;
+    else if (origin != "user")
+      throw std::runtime_error(at + ": \"origin\" " + excerpt(json(origin).dump()) + " is not \"user\" or \"published\"");
+    const std::string frustum = string_field(m, "frustum", "planes", at);
+    if (frustum == "matrix") o.wants_matrix = true;
+    else if (frustum != "planes")
+      throw std::runtime_error(at + ": \"frustum\" " + excerpt(json(frustum).dump()) + " is not \"planes\" or \"matrix\"");
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
+Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volumes, const std::string& what) {
+  json a;
+  try {
+    a = parse_json_limited(line, kMaxProtocolDepth, "a protocol message");
+  } catch (const InputLimitError& limit) {
+    throw std::runtime_error(fmt::format("answered {} with {}: {}", what, limit.what(), excerpt(line)));
+  } catch (const json::exception&) {
+    throw std::runtime_error(fmt::format("answered {} with a line that is not JSON: {}", what, excerpt(line)));
+  }
+  if (!a.is_object() || !a.contains("frame") || !a["frame"].is_number_unsigned())
+    throw std::runtime_error(fmt::format("answered {} without a \"frame\" number: {}", what, excerpt(line)));
+  if (a["frame"].get<std::uint64_t>() != frame)
+    throw std::runtime_error(fmt::format("answered frame {} when {} was asked (answers must come in order): {}",
+                                         a["frame"].get<std::uint64_t>(), what, excerpt(line)));
+  if (a.contains("error") && a["error"].is_string())
+    throw std::runtime_error(fmt::format("reported an error for {}: {}", what, excerpt(a["error"].get<std::string>())));
+  const auto v = a.find("verdicts");
+  if (v == a.end() || !v->is_array())
+    throw std::runtime_error(fmt::format("answered {} without a \"verdicts\" array: {}", what, excerpt(line)));
+  if (v->size() != volumes)
+    throw std::runtime_error(
+        fmt::format("answered {} with {} verdict(s) for {} volume(s): {}", what, v->size(), volumes, excerpt(line)));
+  Reply r;
+  if (const auto t = a.find("ns"); t != a.end()) {
+    if (!t->is_number() || !(t->get<double>() >= 0.0))
+      throw std::runtime_error(
+          fmt::format("answered {} with \"ns\" {}, which is not a number of nanoseconds", what, excerpt(t->dump())));
+    r.ns = t->get<double>();
+  }
+  r.verdicts.reserve(volumes);
+  for (std::size_t i = 0; i < volumes; ++i) {
+    const json& x = (*v)[i];
+    if (x.is_null()) {
+      r.verdicts.push_back(std::nullopt);
+    } else if (x.is_string() && (x == "outside" || x == "intersecting" || x == "inside")) {
+      r.verdicts.push_back(visibility_from_string(x.get<std::string>()));
+    } else {
+      throw std::runtime_error(fmt::format("answered {} with verdict {} for volume {}, which is not \"outside\", "
+                                           "\"intersecting\", \"inside\" or null",
+                                           what, excerpt(x.dump()), i));
+    }
+  }
+  return r;
+}
+
+}  // namespace cullproof::protocol
