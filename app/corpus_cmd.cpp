@@ -1,8 +1,8 @@
-// `cullproof corpus`: list, show, replay and rerecord the mismatch corpus (src/campaign/corpus.cpp).
+// `cullproof corpus`: list, show, replay and rerecord the mismatch corpus (src/corpus/corpus.cpp).
 #include "commands.hpp"
 
 #include "cullproof/io/case_io.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/oracle/oracle.hpp"
 #ifdef CULLPROOF_HAVE_REPORT
 #include "cullproof/report/case_view.hpp"

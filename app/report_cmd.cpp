@@ -2,7 +2,7 @@
 #include "commands.hpp"
 
 #include "cullproof/campaign/campaign.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/io/files.hpp"
 #include "cullproof/io/limits.hpp"

@@ -5,7 +5,7 @@
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/io/files.hpp"
 #include "cli_checks.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #ifdef CULLPROOF_HAVE_REPORT
 #include "cullproof/report/summary.hpp"
 #endif

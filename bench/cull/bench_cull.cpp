@@ -9,6 +9,7 @@
 #include "cullproof/core/cull.hpp"
 #include "cullproof/simd/cull_batch.hpp"
 #include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/simd/bvh_wide.hpp"
 #include "cullproof/core/cull_coherence.hpp"
 #include "cullproof/methods/methods.hpp"
 

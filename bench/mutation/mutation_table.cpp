@@ -15,7 +15,7 @@
 #include "mutants.hpp"
 
 #include "cullproof/campaign/campaign.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 
 #include <fmt/format.h>
 

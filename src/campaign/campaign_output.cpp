@@ -155,4 +155,11 @@ nlohmann::json to_json(const VerifyResult& r) {
   return j;
 }
 
+bool VerifyResult::claim_broken() const noexcept {
+  for (const auto& d : distributions)
+    for (const auto& m : d.methods)
+      if (m.origin != Origin::published && m.refuted()) return true;
+  return false;
+}
+
 }  // namespace cullproof

@@ -8,10 +8,6 @@
 
 namespace cullproof::detail {
 
-std::optional<Visibility> run_method(const Method& m, const GenCase& c) {
-  return checked_classify(m, c.frustum, c.volume);
-}
-
 namespace {
 
 // An error of class `cls` judged as the run judges it: whether it breaks m's claim, and how many

@@ -2,7 +2,7 @@
 #include "cullproof/gtest/gtest.hpp"
 
 #include "cullproof/io/case_io.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 
 #include <fmt/format.h>
 

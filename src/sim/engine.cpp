@@ -1,6 +1,6 @@
 // The simulator's culling engine: one hierarchical traversal for every timed configuration, the
-// node test chosen per configuration (node_tests.hpp; the baseline and TR coherency call the
-// library, cull.hpp perspective_transform and cull_coherence.hpp TrCoherencyCuller).
+// node test chosen per configuration (the library's: cullproof/core/node_tests.hpp, cull.hpp
+// perspective_transform and cull_coherence.hpp TrCoherencyCuller).
 //
 // When each optimisation is used (only when the scene keeps it valid):
 //  - octant: only when OctantCuller accepts the frame's frustum (bounded and symmetric, A&M §3.3
@@ -13,6 +13,8 @@
 //    culler refuses, gets translation coherency only. Nodes that moved (and their ancestors,
 //    whose boxes were refitted) lose their TR state and get a full test.
 #include "cullproof/sim/engine.hpp"
+
+#include "cullproof/core/bvh_traverse.hpp"
 
 #include <chrono>
 #include <cstring>
@@ -42,46 +44,34 @@ namespace {
 bool uses_octant(Config c) { return c == Config::pc_octant || c == Config::pc_octant_tr; }
 bool uses_tr(Config c) { return c == Config::pc_tr || c == Config::pc_octant_tr; }
 
+// The traversal's output as the simulator keeps it: leaf indices (the world's primitive order is
+// the leaf order), verdicts, and every tested node's verdict when recording.
+struct ToOutput {
+  Output& out;
+  bool record;
+  void node(std::uint32_t n, Visibility v) const {
+    if (record) out.node_verdict[n] = static_cast<std::uint8_t>(v);
+  }
+  void one(std::uint32_t position, Visibility v) const {
+    out.leaves.push_back(position);
+    out.verdicts.push_back(static_cast<std::uint8_t>(v));
+  }
+  void subtree(std::uint32_t first, std::uint32_t last) const {
+    for (std::uint32_t k = first; k < last; ++k) one(k, Visibility::inside);
+  }
+};
+
+// Every world leaf is one primitive: no primitive is tested apart from its leaf.
+Visibility no_primitive_test(const Aabb&, std::uint32_t, std::uint64_t&) noexcept { return Visibility::intersecting; }
+
 template <class NodeFn>
 void traverse(const World& w, NodeFn&& fn, Output& out, bool record) {
   out.leaves.clear();
   out.verdicts.clear();
   out.visited = out.tests = 0;
   if (record) out.node_verdict.assign(w.node_count(), 255);
-  if (w.bvh.nodes.empty()) return;
-  struct Entry {
-    std::uint32_t node, mask;
-  };
-  Entry stack[256];
-  int top = 0;
-  stack[top++] = Entry{0, 0x3fu};
-  std::uint64_t visited = 0, tests = 0;
-  while (top > 0) {
-    const Entry e = stack[--top];
-    const BvhNode& node = w.bvh.nodes[e.node];
-    ++visited;
-    std::uint32_t mask = e.mask;
-    const Visibility v = fn(e.node, node.box, mask, tests);
-    if (record) out.node_verdict[e.node] = static_cast<std::uint8_t>(v);
-    if (v == Visibility::outside) continue;
-    if (v == Visibility::inside) {
-      const auto& sp = w.bvh.subtree_prims[e.node];
-      for (std::uint32_t k = sp[0]; k < sp[1]; ++k) {
-        out.leaves.push_back(k);
-        out.verdicts.push_back(static_cast<std::uint8_t>(Visibility::inside));
-      }
-      continue;
-    }
-    if (node.is_leaf()) {
-      out.leaves.push_back(node.right_or_first);
-      out.verdicts.push_back(static_cast<std::uint8_t>(Visibility::intersecting));
-      continue;
-    }
-    stack[top++] = Entry{node.right_or_first, mask};
-    stack[top++] = Entry{e.node + 1, mask};
-  }
-  out.visited = visited;
-  out.tests = tests;
+  ToOutput emit{out, record};
+  traverse_bvh(w.bvh, fn, no_primitive_test, emit, out.visited, out.tests);
 }
 
 }  // namespace
@@ -100,7 +90,7 @@ std::string octant_decision(const glm::mat4& proj, DepthConvention depth, double
 void Engine::setup(Config c, int v, const View& view, bool projection_changed, const std::vector<std::uint32_t>& moved) {
   ConfigView& s = state(c, v);
   s.view = &view;
-  for (int i = 0; i < 6; ++i) s.sel[i] = select_plane(view.frustum[i]);
+  s.sel = node::SelectedPlanes(view.frustum);
   if (uses_octant(c)) {
     if (!s.oct_checked || std::memcmp(&s.oct_proj, &view.proj, sizeof(glm::mat4)) != 0) {
       s.oct_checked = true;
@@ -112,12 +102,8 @@ void Engine::setup(Config c, int v, const View& view, bool projection_changed, c
     }
     s.octant_ok = s.oct_valid;
     if (s.octant_ok) {
+      s.oct = node::OctantFrame(view.frustum, 0.0);
       s.oct.d1_sq = s.oct_d1_sq;
-      const Frustum nf = view.frustum.normalized();
-      for (int i = 0; i < 6; ++i) {
-        s.oct.planes[i] = nf[i];
-        s.oct.sel[i] = select_plane(nf[i]);
-      }
     }
   }
   if (uses_tr(c)) {
@@ -164,17 +150,17 @@ void Engine::run(Config c, int v, Output& out, bool record) {
     }
     case Config::basic_np:
       traverse(w_, [&](std::uint32_t, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
-        return basic_np(s.sel, box, t);
+        return node::all_planes(s.sel, box, t);
       }, out, record);
       break;
     case Config::pc_octant:
       if (s.octant_ok)
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
-          return octant_pc(s.oct, box, s.pc[n], t);
+          return node::octant_coherent(s.oct, box, s.pc[n], t);
         }, out, record);
       else
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
-          return plane_coherency(s.sel, box, s.pc[n], t);
+          return node::plane_coherency(s.sel, box, s.pc[n], t);
         }, out, record);
       break;
     case Config::pc_tr:
@@ -187,18 +173,18 @@ void Engine::run(Config c, int v, Output& out, bool record) {
         out.tests = 6 * (s.trc.stats.full_tests - s.tr_before.full_tests);
       } else if (oct) {
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
-          return octant_pc(s.oct, box, s.pc[n], t);
+          return node::octant_coherent(s.oct, box, s.pc[n], t);
         }, out, record);
       } else {
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
-          return plane_coherency(s.sel, box, s.pc[n], t);
+          return node::plane_coherency(s.sel, box, s.pc[n], t);
         }, out, record);
       }
       break;
     }
     case Config::masking:
       traverse(w_, [&](std::uint32_t, const Aabb& box, std::uint32_t& mask, std::uint64_t& t) {
-        return masked_np(s.sel, box, mask, t);
+        return node::masked(s.sel, box, mask, t);
       }, out, record);
       break;
     case Config::lib_bvh_plain:

@@ -13,7 +13,7 @@
 // cached state (plane-coherency cache, TR state) that produced it.
 #include "cullproof/sim/simulate.hpp"
 
-#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/judge/judge.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/oracle/oracle.hpp"
 #include "cullproof/sim/engine.hpp"

@@ -7,9 +7,12 @@
 // the longest axis of the centroid bounds, the left part rounded to a whole number of leaves
 // (ceil(n/L)/2 leaves of L triangles), so an instance of T triangles has exactly ceil(T/L)
 // leaves and the whole tree 2*sum ceil(T_i/L) - 1 nodes: a target node count (A&M's 3800 / 188 /
-// 1274 graph nodes) is met by choosing L. Node boxes are exact float min/max of their children
-// (leaves: of their triangles' float world vertices), so a node encloses its subtree exactly.
+// 1274 graph nodes) is met by choosing L. Both levels split with the library's median_split
+// (cullproof/core/cull_bvh.hpp). Node boxes are exact float min/max of their children (leaves: of
+// their triangles' float world vertices), so a node encloses its subtree exactly.
 #include "cullproof/sim/scene.hpp"
+
+#include "cullproof/core/cull_bvh.hpp"
 #include "splitmix.hpp"
 
 #include <algorithm>
@@ -50,11 +53,6 @@ void grow(Aabb& b, const glm::vec3& p) {
   b.min = glm::min(b.min, p);
   b.max = glm::max(b.max, p);
 }
-int longest_axis(const Aabb& b) {
-  const glm::vec3 e = b.max - b.min;
-  return e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
-}
-
 // Model-space triangles of a normalised mesh (or the floor).
 struct ModelGeom {
   std::vector<glm::vec3> vertices;  // model space: base centred at origin, scaled
@@ -139,16 +137,10 @@ struct Builder {
       w.bvh.subtree_prims[node][1] = w.leaf_count();
       return node;
     }
-    Aabb cb = empty_box();
-    for (std::size_t k = b; k < e; ++k) grow(cb, tri_cent[idx[k]]);
-    const int axis = longest_axis(cb);
+    // Split at a whole number of leaves (the median, rounded down to one).
     const std::size_t leaves = (n + leaf_size - 1) / leaf_size;
     const std::size_t left = (leaves / 2) * leaf_size;
-    std::nth_element(idx.begin() + static_cast<std::ptrdiff_t>(b), idx.begin() + static_cast<std::ptrdiff_t>(b + left),
-                     idx.begin() + static_cast<std::ptrdiff_t>(e), [&](std::uint32_t x, std::uint32_t y) {
-                       const float cx = tri_cent[x][axis], cy = tri_cent[y][axis];
-                       return cx < cy || (cx == cy && x < y);
-                     });
+    median_split(idx.data() + b, idx.data() + e, left, [&](std::uint32_t t) -> const glm::vec3& { return tri_cent[t]; });
     const std::uint32_t l = build_instance(idx, b, b + left, static_cast<std::int32_t>(node), inst);
     const std::uint32_t r = build_instance(idx, b + left, e, static_cast<std::int32_t>(node), inst);
     (void)l;
@@ -328,15 +320,8 @@ struct TopBuilder {
     if (e - b == 1) return build_leaf_instance(placed[ord[b]], parent);
     const std::uint32_t node = bld.new_node(parent, -1);
     w.bvh.subtree_prims[node][0] = w.leaf_count();
-    Aabb cb = empty_box();
-    for (std::size_t k = b; k < e; ++k) grow(cb, inst_box[ord[k]].center());
-    const int axis = longest_axis(cb);
     const std::size_t mid = b + (e - b) / 2;
-    std::nth_element(ord.begin() + static_cast<std::ptrdiff_t>(b), ord.begin() + static_cast<std::ptrdiff_t>(mid),
-                     ord.begin() + static_cast<std::ptrdiff_t>(e), [&](std::uint32_t x, std::uint32_t y) {
-                       const float cx = inst_box[x].center()[axis], cy = inst_box[y].center()[axis];
-                       return cx < cy || (cx == cy && x < y);
-                     });
+    median_split(ord.data() + b, ord.data() + e, mid - b, [&](std::uint32_t i) { return inst_box[i].center(); });
     build(ord, b, mid, static_cast<std::int32_t>(node));
     const std::uint32_t r = build(ord, mid, e, static_cast<std::int32_t>(node));
     Aabb box = w.bvh.nodes[node + 1].box;

@@ -50,6 +50,7 @@
 #include "batch_util-inl.h"
 
 #include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/simd/bvh_wide.hpp"
 
 #include "cullproof/core/bvh_planes.hpp"
 

@@ -5,7 +5,7 @@
 // corpus reader reads; what else a killed writer may leave is its temporary file, hidden and named
 // so that no reader takes it for a case (write_file_atomic). A later complete run fills in what the
 // killed ones did not write.
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/io/files.hpp"
 #include "run_program.hpp"
 

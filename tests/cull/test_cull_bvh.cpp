@@ -3,6 +3,7 @@
 
 #include "cull_fixtures.hpp"
 #include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/simd/bvh_wide.hpp"
 
 #include <glm/ext/matrix_transform.hpp>
 #include <hwy/targets.h>

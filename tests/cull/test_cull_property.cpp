@@ -11,6 +11,7 @@
 #include <rapidcheck/gtest.h>
 
 #include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/simd/bvh_wide.hpp"
 #include "cullproof/methods/methods.hpp"
 
 #include <glm/ext/matrix_clip_space.hpp>

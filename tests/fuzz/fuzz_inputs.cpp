@@ -2,7 +2,7 @@
 #include "fuzz_inputs.hpp"
 
 #include "cullproof/io/case_io.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/protocol/protocol.hpp"
 #include "cullproof/sim/scene.hpp"
 

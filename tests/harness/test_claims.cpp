@@ -6,7 +6,7 @@
 // refutation of any other method fails here with the exact counterexample.
 #include "cullproof/gen/arbitrary.hpp"
 #include "cullproof/campaign/campaign.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // reproduces (a fixed method must have its evidence moved out of the corpus deliberately). Every
 // record's judgement (whether it breaks its claim, its distance to the verdict given, the
 // allowance) is the judge's as it is now: a change to the judge is followed by `corpus rejudge`.
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Harness units: the error-class table, the claim rules, the confidence interval, deterministic
 // generation, the hard families' construction, and the campaign's corpus writing.
 #include "cullproof/campaign/campaign.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/oracle/oracle.hpp"
 
 #include <gtest/gtest.h>

@@ -5,7 +5,7 @@
 
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/io/case_io.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/core/cull.hpp"
 #include "cullproof/methods/methods.hpp"
 #include "cullproof/oracle/oracle.hpp"

@@ -6,7 +6,7 @@
 // language is verified.
 #include "mutants.hpp"
 
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/protocol/external.hpp"
 #include "cullproof/gtest/gtest.hpp"
 

@@ -3,7 +3,7 @@
 // corpus cases), a malformed result refused naming the field, and a campaign run whose
 // claim-breaking cases are named again on a second run that writes nothing new.
 #include "cullproof/campaign/campaign.hpp"
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/report/summary.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The simulator: which optimisations it enables and why, exhaustive verification of small
 // scenes against the oracle, determinism, and the inline node tests against the library.
-#include "cullproof/sim/node_tests.hpp"
+#include "cullproof/core/node_tests.hpp"
 #include "cullproof/sim/simulate.hpp"
 #include "cullproof/sim/engine.hpp"
 
@@ -247,36 +247,32 @@ RandomCase random_case(std::mt19937_64& g) {
 
 }  // namespace
 
+// The per-node tests the simulator composes against the library's per-case tests: the same
+// verdicts (and, for plane coherency, the same cache and plane tests); the octant composition
+// against OctantCuller's corrected test.
 TEST(NodeTests, MatchTheLibrary) {
   std::mt19937_64 g(7);
   for (int k = 0; k < 20000; ++k) {
     const RandomCase c = random_case(g);
-    SelPlane sel[6];
-    for (int i = 0; i < 6; ++i) sel[i] = select_plane(c.f[i]);
+    const node::SelectedPlanes sel(c.f);
     std::uint64_t tests = 0;
-    EXPECT_EQ(basic_np(sel, c.box, tests), pn_vertex(c.f, c.box));
+    EXPECT_EQ(node::all_planes(sel, c.box, tests), pn_vertex(c.f, c.box));
     for (int start = -1; start < 6; ++start) {
       std::int8_t mine = static_cast<std::int8_t>(start);
       PlaneCoherencyCache lib{static_cast<std::int8_t>(start)};
       std::uint64_t t1 = 0, t2 = 0;
-      EXPECT_EQ(plane_coherency(sel, c.box, mine, t1), plane_coherency_test(c.f, c.box, lib, &t2));
+      EXPECT_EQ(node::plane_coherency(sel, c.box, mine, t1), plane_coherency_test(c.f, c.box, lib, &t2));
       EXPECT_EQ(mine, lib.last_outside_plane);
       EXPECT_EQ(t1, t2);
     }
     std::uint32_t mask = 0x3f;
-    const Visibility vm = masked_np(sel, c.box, mask, tests);
+    const Visibility vm = node::masked(sel, c.box, mask, tests);
     EXPECT_EQ(vm, pn_vertex(c.f, c.box));
     if (is_symmetric(c.f)) {
       const OctantCuller oc(c.f);
-      OctantFrame o;
-      const Frustum nf = c.f.normalized();
-      for (int i = 0; i < 6; ++i) {
-        o.planes[i] = nf[i];
-        o.sel[i] = select_plane(nf[i]);
-      }
-      o.d1_sq = oc.centre_distance() > 0 ? oc.centre_distance() * oc.centre_distance() : -1.0;
+      const node::OctantFrame o(c.f, oc.centre_distance());
       std::int8_t cache = -1;
-      EXPECT_EQ(octant_pc(o, c.box, cache, tests), oc.classify_corrected(c.box));
+      EXPECT_EQ(node::octant_coherent(o, c.box, cache, tests), oc.classify_corrected(c.box));
     }
   }
 }

@@ -44,18 +44,9 @@ struct Builder {
       bvh.nodes[index].count = n;
       return;
     }
-    glm::vec3 lo = centroids[bvh.prim_order[first]], hi = lo;
-    for (std::uint32_t k = first + 1; k < last; ++k) {
-      lo = glm::min(lo, centroids[bvh.prim_order[k]]);
-      hi = glm::max(hi, centroids[bvh.prim_order[k]]);
-    }
-    const glm::vec3 ext = hi - lo;
-    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
     const std::uint32_t mid = first + n / 2;
     auto* base = bvh.prim_order.data();
-    std::nth_element(base + first, base + mid, base + last, [&](std::uint32_t a, std::uint32_t b) {
-      return centroids[a][axis] < centroids[b][axis] || (centroids[a][axis] == centroids[b][axis] && a < b);
-    });
+    median_split(base + first, base + last, n / 2, [&](std::uint32_t k) -> const glm::vec3& { return centroids[k]; });
     build(first, mid);
     bvh.nodes[index].right_or_first = static_cast<std::uint32_t>(bvh.nodes.size());
     build(mid, last);

@@ -22,6 +22,7 @@
 #include "cullproof/core/cull_bvh.hpp"
 
 #include "cullproof/core/bvh_planes.hpp"
+#include "cullproof/core/bvh_traverse.hpp"
 
 #include <cstddef>
 
@@ -33,86 +34,65 @@ using bvh_detail::floats;
 using bvh_detail::Prepared;
 using bvh_detail::test_plane;
 
-void append_subtree(const Bvh& bvh, std::uint32_t node, VisibleSet& out) {
-  const std::uint32_t first = bvh.subtree_prims[node][0], last = bvh.subtree_prims[node][1];
-  out.indices.insert(out.indices.end(), bvh.prim_order.begin() + first, bvh.prim_order.begin() + last);
-  out.verdicts.insert(out.verdicts.end(), last - first, Visibility::inside);
-}
-
-struct Entry {
-  std::uint32_t node;
-  std::uint32_t mask;
+// The visible set, in traverse_bvh's terms.
+struct ToVisibleSet {
+  const Bvh& bvh;
+  VisibleSet& out;
+  void node(std::uint32_t, Visibility) const noexcept {}
+  void one(std::uint32_t position, Visibility v) const {
+    out.indices.push_back(bvh.prim_order[position]);
+    out.verdicts.push_back(v);
+  }
+  void subtree(std::uint32_t first, std::uint32_t last) const {
+    out.indices.insert(out.indices.end(), bvh.prim_order.begin() + first, bvh.prim_order.begin() + last);
+    out.verdicts.insert(out.verdicts.end(), last - first, Visibility::inside);
+  }
 };
 
-// Shared traversal. kMask: skip planes cleared in the mask. kCoherent: test the cached plane
+// The node tests. kMask: skip planes cleared in the mask. kCoherent: test the cached plane
 // first. kMask == false tests all six planes at every node (the plain traversal).
 template <bool kMask, bool kCoherent>
 void traverse(const Frustum& f, const Bvh& bvh, std::int8_t* cache, VisibleSet& out, CullStats& stats) {
   out.clear();
-  if (bvh.nodes.empty()) return;
   const Prepared prep(f);
-  Entry stack[128];
-  int top = 0;
-  stack[top++] = Entry{0, 0x3fu};
-  std::uint64_t visited = 0, tests = 0;
-  while (top > 0) {
-    const Entry e = stack[--top];
-    const BvhNode& node = bvh.nodes[e.node];
-    ++visited;
-    const float* b = floats(node.box);
-    std::uint32_t mask = kMask ? e.mask : 0x3fu;
-    bool outside = false;
+  auto test = [&](std::uint32_t index, const Aabb& box, std::uint32_t& mask, std::uint64_t& tests) {
+    const float* b = floats(box);
+    if (!kMask) mask = 0x3fu;
     if (kCoherent) {
-      const int c = cache[e.node];
+      const int c = cache[index];
       if (c >= 0 && (mask >> c) & 1u) {
         ++tests;
         const int r = test_plane(prep.p[c], b);
-        if (r == 0) outside = true;
-        else if (r == 2) mask &= ~(1u << c);
+        if (r == 0) return Visibility::outside;
+        if (r == 2) mask &= ~(1u << c);
       }
-      if (!outside) {
-        for (std::uint32_t m = mask & ~(c >= 0 ? 1u << c : 0u); m != 0; m &= m - 1) {
-          const int i = __builtin_ctz(m);
-          ++tests;
-          const int r = test_plane(prep.p[i], b);
-          if (r == 0) { outside = true; cache[e.node] = static_cast<std::int8_t>(i); break; }
-          if (r == 2) mask &= ~(1u << i);
+      for (std::uint32_t m = mask & ~(c >= 0 ? 1u << c : 0u); m != 0; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        ++tests;
+        const int r = test_plane(prep.p[i], b);
+        if (r == 0) {
+          cache[index] = static_cast<std::int8_t>(i);
+          return Visibility::outside;
         }
+        if (r == 2) mask &= ~(1u << i);
       }
     } else {
       for (std::uint32_t m = mask; m != 0; m &= m - 1) {  // the set bits, lowest first
         const int i = __builtin_ctz(m);
         ++tests;
         const int r = test_plane(prep.p[i], b);
-        if (r == 0) { outside = true; break; }
+        if (r == 0) return Visibility::outside;
         if (r == 2) mask &= ~(1u << i);
       }
     }
-    if (outside) continue;
-    if (mask == 0) {
-      append_subtree(bvh, e.node, out);
-      continue;
-    }
-    if (node.is_leaf()) {
-      if (node.count == 1) {  // the leaf box is the primitive's box
-        out.indices.push_back(bvh.prim_order[node.right_or_first]);
-        out.verdicts.push_back(Visibility::intersecting);
-        continue;
-      }
-      for (std::uint32_t k = node.right_or_first; k < node.right_or_first + node.count; ++k) {
-        const int r = bvh_detail::test_masked(prep, floats(bvh.prim_boxes[k]), kMask ? mask : 0x3fu, tests);
-        if (r == 0) continue;
-        out.indices.push_back(bvh.prim_order[k]);
-        out.verdicts.push_back(r == 1 ? Visibility::intersecting : Visibility::inside);
-      }
-      continue;
-    }
-    __builtin_prefetch(&bvh.nodes[node.right_or_first]);  // popped after the left subtree
-    stack[top++] = Entry{node.right_or_first, mask};
-    stack[top++] = Entry{e.node + 1, mask};
-  }
-  stats.nodes_visited += visited;
-  stats.plane_tests += tests;
+    return mask == 0 ? Visibility::inside : Visibility::intersecting;
+  };
+  auto prim_test = [&](const Aabb& box, std::uint32_t mask, std::uint64_t& tests) {
+    const int r = bvh_detail::test_masked(prep, floats(box), kMask ? mask : 0x3fu, tests);
+    return r == 0 ? Visibility::outside : r == 1 ? Visibility::intersecting : Visibility::inside;
+  };
+  ToVisibleSet emit{bvh, out};
+  traverse_bvh(bvh, test, prim_test, emit, stats.nodes_visited, stats.plane_tests);
 }
 
 }  // namespace

@@ -27,6 +27,7 @@
 // (the verdict is decided by the planes and the bounding sphere in double).
 // Touching: as pn_vertex (touching from outside: intersecting; from inside: inside).
 #include "cullproof/core/cull_coherence.hpp"
+#include "cullproof/core/node_tests.hpp"
 
 #include <cmath>
 #include <limits>
@@ -84,11 +85,10 @@ Visibility OctantCuller::classify(const Aabb& box) const noexcept {
   const int count = d2_sq <= d1_sq_ ? 3 : 6;
   int outer[6];
   if (count == 3) {
-    const glm::vec3 c = box.center();
-    for (int k = 0; k < 3; ++k) {
-      const int a = 2 * k, b = 2 * k + 1;
-      outer[k] = planes_[a].eval(c) <= planes_[b].eval(c) ? a : b;
-    }
+    int octant_outer[3], inner[3];
+    float nearer[3];
+    node::octant_sides(planes_, box.center(), octant_outer, inner, nearer);
+    for (int k = 0; k < 3; ++k) outer[k] = octant_outer[k];
   } else {
     for (int i = 0; i < 6; ++i) outer[i] = i;
   }
@@ -107,14 +107,9 @@ Visibility OctantCuller::classify_corrected(const Aabb& box) const noexcept {
   // A half-extent that overflows float (a box reaching across most of the range) is infinite
   // here and takes the full test.
   if (!(d2_sq <= d1_sq_)) return pn_vertex_index(given_, box);
-  const glm::vec3 c = box.center();
   int outer[3], inner[3];
-  for (int k = 0; k < 3; ++k) {
-    const int a = 2 * k, b = 2 * k + 1;
-    const bool a_outer = planes_[a].eval(c) <= planes_[b].eval(c);
-    outer[k] = a_outer ? a : b;
-    inner[k] = a_outer ? b : a;
-  }
+  float nearer[3];
+  node::octant_sides(planes_, box.center(), outer, inner, nearer);
   bool intersect = false;
   for (int k = 0; k < 3; ++k) {
     const int r = plane_test_wide(given_[outer[k]], box);

@@ -6,6 +6,8 @@
 #include "cullproof/core/cull.hpp"
 
 #include <array>
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +35,27 @@ struct Bvh {
   std::vector<std::array<std::uint32_t, 2>> subtree_prims;
   std::uint32_t leaf_count() const noexcept;
 };
+
+/// The split of the median-split builders (build_bvh, and the simulator's world over instances and
+/// their triangles): the longest axis of the bounds of the items' centres (x on a tie with y or z,
+/// y on a tie with z), then the items of [first, last) reordered in place so that the `at` whose
+/// centres lie lowest along it come first (ties by item number: deterministic). `centre(item)`
+/// gives an item's centre. Returns the axis.
+template <class Centre>
+int median_split(std::uint32_t* first, std::uint32_t* last, std::size_t at, const Centre& centre) {
+  glm::vec3 lo = centre(*first), hi = lo;
+  for (const std::uint32_t* p = first + 1; p < last; ++p) {
+    lo = glm::min(lo, glm::vec3(centre(*p)));
+    hi = glm::max(hi, glm::vec3(centre(*p)));
+  }
+  const glm::vec3 ext = hi - lo;
+  const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+  std::nth_element(first, first + at, last, [&](std::uint32_t a, std::uint32_t b) {
+    const float ca = centre(a)[axis], cb = centre(b)[axis];
+    return ca < cb || (ca == cb && a < b);
+  });
+  return axis;
+}
 
 /// Median-split builder (src/core/cull/bvh_build.cpp): split the centroid bounds' longest axis at
 /// the median centroid (std::nth_element) until a node holds at most max_leaf_size primitives.
@@ -155,30 +178,5 @@ using Bvh8 = BvhWide<8>;
 /// order are kept as they are; binary leaves stay leaves. O(binary node count).
 Bvh4 build_bvh4(const Bvh& bvh);
 Bvh8 build_bvh8(const Bvh& bvh);
-
-/// Plane masking on a wide BVH (src/simd/bvh_wide_traverse.cpp, Highway runtime dispatch): the
-/// root box gets the scalar six-plane test (as cull_bvh_masked's root); a wide node reached with
-/// mask m evaluates the planes of m for all its children at once (n/p-vertex test, SIMD), and
-/// each child gets m minus the planes its n-vertex is inside; mask 0 accepts the child's subtree
-/// without tests. Claim: conservative; verdicts bit-for-bit cull_bvh_plain's. Output: the same
-/// VisibleSet as cull_bvh_masked (same indices, verdicts and order: leaf order).
-/// Counters (added to `stats`): a visited node is the root or a child lane whose box was tested
-/// (every used lane of a wide node reached with a non-zero mask; unused lanes are not counted;
-/// the binary nodes collapsed away are never tested); plane_tests counts the planes of m for
-/// every such lane (all are evaluated: no early exit per lane), plus the root's and the
-/// primitives' scalar tests in leaves of more than one primitive.
-void cull_bvh4_masked(const Frustum& frustum, const Bvh4& bvh, VisibleSet& out, CullStats& stats);
-void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleSet& out, CullStats& stats);
-
-/// The same traversals with the visible set written as runs of leaf order (VisibleRuns): the
-/// same tests, verdicts and counters; expand_runs(out, bvh.prim_order, set) gives exactly the
-/// VisibleSet of the overloads above. An accepted subtree costs one run instead of one index and
-/// one verdict per primitive. Throws std::length_error
-/// for a BVH of 2^31 or more primitives.
-void cull_bvh4_masked(const Frustum& frustum, const Bvh4& bvh, VisibleRuns& out, CullStats& stats);
-void cull_bvh8_masked(const Frustum& frustum, const Bvh8& bvh, VisibleRuns& out, CullStats& stats);
-
-/// The Highway target the wide traversals dispatch to on this machine (e.g. "AVX3").
-const char* bvh_wide_simd_target();
 
 }  // namespace cullproof

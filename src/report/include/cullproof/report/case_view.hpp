@@ -12,7 +12,7 @@
 // with s_j the signed distance to the normalised plane j, in double.
 #pragma once
 
-#include "cullproof/campaign/corpus.hpp"
+#include "cullproof/corpus/corpus.hpp"
 
 #include <nlohmann/json.hpp>
 

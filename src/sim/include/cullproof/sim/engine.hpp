@@ -5,7 +5,7 @@
 
 #include "cullproof/core/cull_bvh.hpp"
 #include "cullproof/core/cull_coherence.hpp"
-#include "cullproof/sim/node_tests.hpp"
+#include "cullproof/core/node_tests.hpp"
 #include "cullproof/sim/simulate.hpp"
 
 #include <string>
@@ -29,9 +29,9 @@ struct ConfigView {
   BvhCoherency lib;                   ///< cull_bvh_coherent's cache
   // set-up of the current frame
   const View* view = nullptr;
-  SelPlane sel[6];
+  node::SelectedPlanes sel;
   bool octant_ok = false;
-  OctantFrame oct;
+  node::OctantFrame oct;
   std::string octant_why;
   bool oct_checked = false, oct_valid = false;  ///< the octant decision for projection oct_proj
   glm::mat4 oct_proj{1.0f};

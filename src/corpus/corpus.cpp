@@ -1,7 +1,6 @@
-// The mismatch corpus (see cullproof/campaign/corpus.hpp).
-#include "cullproof/campaign/corpus.hpp"
+// The mismatch corpus (see cullproof/corpus/corpus.hpp).
+#include "cullproof/corpus/corpus.hpp"
 
-#include "campaign_internal.hpp"
 #include "cullproof/gen/generators.hpp"
 #include "cullproof/oracle/oracle.hpp"
 

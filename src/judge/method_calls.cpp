@@ -1,6 +1,6 @@
 // Calling a method as the campaign does: one case, or a camera path frame after frame, with
 // every answer checked and every exception turned into a fault naming the method.
-#include "campaign_internal.hpp"
+#include "cullproof/judge/judge.hpp"
 
 #include <fmt/format.h>
 
@@ -127,6 +127,10 @@ Answer checked_classify_path(const Method& m, const PathCase& p) {
     throw std::runtime_error(fmt::format("{} (camera path frame {}, object {})", e.what(), e.frame, e.object));
   }
   return out;
+}
+
+std::optional<Visibility> detail::run_method(const Method& m, const gen::GenCase& c) {
+  return checked_classify(m, c.frustum, c.volume);
 }
 
 }  // namespace cullproof

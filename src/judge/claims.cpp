@@ -1,6 +1,6 @@
 // What a claim forbids and how far an error lies from being right: error classes, the claim rule,
-// the distance it is judged on (see cullproof/campaign/campaign.hpp), and the Wilson interval of a rate.
-#include "cullproof/campaign/campaign.hpp"
+// the distance it is judged on (see cullproof/judge/judge.hpp), and the Wilson interval of a rate.
+#include "cullproof/judge/judge.hpp"
 
 #include "cullproof/oracle/oracle.hpp"
 
@@ -49,12 +49,6 @@ bool needs_distance(Claim claim, ErrorClass e, bool float_exact) noexcept {
   }
 }
 
-bool VerifyResult::claim_broken() const noexcept {
-  for (const auto& d : distributions)
-    for (const auto& m : d.methods)
-      if (m.origin != Origin::published && m.refuted()) return true;
-  return false;
-}
 
 std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept {
   if (n == 0) return {0.0, 0.0};

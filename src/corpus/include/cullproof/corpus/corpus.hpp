@@ -3,8 +3,11 @@
 // witness, distance, seed, reproduce command, every method's verdict on the case).
 #pragma once
 
-#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/gen/generators.hpp"
 #include "cullproof/io/case_io.hpp"
+#include "cullproof/judge/judge.hpp"
+#include "cullproof/methods/methods.hpp"
+#include "cullproof/oracle/oracle.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -87,5 +90,37 @@ struct Rejudged {
 /// "tolerance", "allowance") differ from what the judge says now. Records whose truth changed are left to
 /// `replay`. Returns the records rewritten.
 std::vector<Rejudged> rejudge(const std::filesystem::path& dir, const std::vector<Method>& methods);
+
+// ---- Writing the records (corpus_write.cpp), as the campaign finds errors
+
+namespace detail {
+
+/// The command (or, for a user's method, the test environment) that reruns one case.
+std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const Method& m);
+
+/// What write_corpus_case recorded: the case's id, whether this run wrote it (false: the same
+/// geometry was recorded already, by an earlier run or meanwhile by another thread), and whether
+/// the record breaks the method's claim (its "violates_claim").
+struct CorpusRecord {
+  std::string id;
+  bool written = false;
+  bool violates = false;
+};
+
+/// The judgement fields of a record of method m's error: "float_exact", "verdict_distance" (error_distance; null
+/// when no shift helps), "verdict_distance_kind" (oracle::to_string(VerdictShift)), "tolerance"
+/// and "allowance" (the distance within which the claim forgives the error: tolerance x scale, 0
+/// on a float-exact case where the claim allows only rounding; null for a claim without one).
+/// Removes the older "backward_distance".
+void set_judgement(nlohmann::json& record, const oracle::VerdictDistance& vd, const Method& m, double scale, bool float_exact);
+
+/// Writes one corpus case unless the same geometry is already recorded.
+/// `path`: the camera path a stateful method's error needs to reproduce, recorded with the case
+/// (the other stateful methods' verdicts are taken over it too).
+CorpusRecord write_corpus_case(const std::filesystem::path& dir, const gen::GenCase& g, const Method& m, Visibility verdict,
+                               gen::Distribution d, std::uint64_t seed, std::uint64_t index,
+                               const std::vector<Method>& all, const PathCase* path = nullptr);
+
+}  // namespace detail
 
 }  // namespace cullproof
