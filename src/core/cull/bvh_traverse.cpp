@@ -76,16 +76,9 @@ void traverse(const Frustum& f, const Bvh& bvh, std::int8_t* cache, VisibleSet& 
         }
         if (r == 2) mask &= ~(1u << i);
       }
-    } else {
-      for (std::uint32_t m = mask; m != 0; m &= m - 1) {  // the set bits, lowest first
-        const int i = __builtin_ctz(m);
-        ++tests;
-        const int r = test_plane(prep.p[i], b);
-        if (r == 0) return Visibility::outside;
-        if (r == 2) mask &= ~(1u << i);
-      }
+      return mask == 0 ? Visibility::inside : Visibility::intersecting;
     }
-    return mask == 0 ? Visibility::inside : Visibility::intersecting;
+    return node::masked(prep, box, mask, tests);  // the set bits, lowest first
   };
   auto prim_test = [&](const Aabb& box, std::uint32_t mask, std::uint64_t& tests) {
     const int r = bvh_detail::test_masked(prep, floats(box), kMask ? mask : 0x3fu, tests);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "cullproof/core/geometry.hpp"
+#include "cullproof/core/node_tests.hpp"
 #include "cullproof/core/plane_select.hpp"
 
 #include <cstdint>
@@ -14,12 +15,7 @@ namespace cullproof::bvh_detail {
 
 using SelPlane = SelectedPlane;
 
-struct Prepared {
-  SelPlane p[6];
-  explicit Prepared(const Frustum& f) {
-    for (int i = 0; i < 6; ++i) p[i] = select_plane(f[i]);
-  }
-};
+using Prepared = node::SelectedPlanes;
 
 inline const float* floats(const Aabb& b) noexcept { return box_floats(b); }
 inline int test_plane(const SelPlane& s, const float* b) noexcept { return test_selected_plane(s, b); }
