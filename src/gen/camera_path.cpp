@@ -8,9 +8,9 @@
 
 namespace cullproof::gen {
 
-namespace {
-
 using namespace detail;
+
+namespace {
 
 // The camera of frame k of a path from `base`: motions are applied k times from the base pose
 // (not accumulated frame to frame), so frame k does not depend on rounding in earlier frames.
@@ -37,11 +37,9 @@ Camera moved(const Camera& base, const std::string& motion, int k, const glm::dv
   return c;
 }
 
-
 }  // namespace
 
 rc::Gen<CameraPath> camera_path() {
-  using namespace detail;
   return rc::gen::resize(100, rc::gen::exec([] {
     static const char* const kMotions[] = {"still", "translation", "rotation-x", "rotation-y",
                                            "rotation-z", "general", "zoom"};

@@ -4,6 +4,7 @@
 #include "blocks.hpp"
 
 #include "cullproof/core/certified.hpp"
+#include "cullproof/core/splitmix.hpp"
 
 #include <stdexcept>
 
@@ -91,24 +92,27 @@ constexpr bool registry_complete() {
 }
 static_assert(registry_complete(), "every Distribution needs one entry in kDistributions (and kDistributionCount)");
 
-const Entry& entry(Distribution d) {
+const Entry* find(Distribution d) noexcept {
   for (const Entry& e : kDistributions)
-    if (e.d == d) return e;
+    if (e.d == d) return &e;
+  return nullptr;
+}
+
+const Entry& entry(Distribution d) {
+  if (const Entry* e = find(d)) return *e;
   throw std::invalid_argument("not a distribution: " + std::to_string(int(d)));
 }
 
 }  // namespace
 
 std::string_view to_string(Distribution d) noexcept {
-  for (const Entry& e : kDistributions)
-    if (e.d == d) return e.name;
-  return "invalid";
+  const Entry* e = find(d);
+  return e ? e->name : "invalid";
 }
 
 std::string_view describe(Distribution d) noexcept {
-  for (const Entry& e : kDistributions)
-    if (e.d == d) return e.text;
-  return "";
+  const Entry* e = find(d);
+  return e ? e->text : "";
 }
 
 std::vector<Distribution> generic_distributions() {
@@ -181,13 +185,7 @@ namespace {
 
 // One independent stream per (seed, distribution, index): splitmix64 of the three.
 std::uint64_t draw_key(std::uint64_t seed, Distribution d, std::uint64_t index) {
-  auto mix = [](std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-  };
-  return mix(mix(mix(seed) ^ std::uint64_t(d)) ^ index);
+  return splitmix64(splitmix64(splitmix64(seed) ^ std::uint64_t(d)) ^ index);
 }
 
 }  // namespace

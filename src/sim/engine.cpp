@@ -98,12 +98,11 @@ void Engine::setup(Config c, int v, const View& view, bool projection_changed, c
       double d1 = 0.0;
       s.octant_why = octant_decision(view.proj, view.depth, &d1);
       s.oct_valid = s.octant_why.empty();
-      s.oct_d1_sq = d1 > 0.0 ? d1 * d1 : -1.0;
+      s.oct_d1 = d1;
     }
     s.octant_ok = s.oct_valid;
     if (s.octant_ok) {
-      s.oct = node::OctantFrame(view.frustum, 0.0);
-      s.oct.d1_sq = s.oct_d1_sq;
+      s.oct.emplace(view.frustum, s.oct_d1);
     }
   }
   if (uses_tr(c)) {
@@ -156,7 +155,7 @@ void Engine::run(Config c, int v, Output& out, bool record) {
     case Config::pc_octant:
       if (s.octant_ok)
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
-          return node::octant_coherent(s.oct, box, s.pc[n], t);
+          return node::octant_coherent(*s.oct, s.sel, box, s.pc[n], t);
         }, out, record);
       else
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
@@ -173,7 +172,7 @@ void Engine::run(Config c, int v, Output& out, bool record) {
         out.tests = 6 * (s.trc.stats.full_tests - s.tr_before.full_tests);
       } else if (oct) {
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
-          return node::octant_coherent(s.oct, box, s.pc[n], t);
+          return node::octant_coherent(*s.oct, s.sel, box, s.pc[n], t);
         }, out, record);
       } else {
         traverse(w_, [&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {

@@ -17,7 +17,7 @@
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/oracle/oracle.hpp"
 #include "cullproof/sim/engine.hpp"
-#include "splitmix.hpp"
+#include "cullproof/core/splitmix.hpp"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>

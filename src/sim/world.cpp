@@ -13,7 +13,7 @@
 #include "cullproof/sim/scene.hpp"
 
 #include "cullproof/core/cull_bvh.hpp"
-#include "splitmix.hpp"
+#include "cullproof/core/splitmix.hpp"
 
 #include <algorithm>
 #include <cmath>

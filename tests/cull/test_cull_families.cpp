@@ -6,12 +6,15 @@
 // the wide traversals' lanes answer differently (docs/float-range.md); it is left out here.
 #include "cullproof/core/cull.hpp"
 #include "cullproof/core/cull_bvh.hpp"
+#include "cullproof/core/cull_coherence.hpp"
+#include "cullproof/core/node_tests.hpp"
 #include "cullproof/gen/generators.hpp"
 #include "cullproof/simd/bvh_wide.hpp"
 #include "cullproof/simd/cull_batch.hpp"
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,5 +90,56 @@ INSTANTIATE_TEST_SUITE_P(Families, OnEveryDistribution, ::testing::ValuesIn(gen:
                              if (ch == '-') ch = '_';
                            return name;
                          });
+
+// The per-node tests that the hierarchical cullers and the simulator compose, against the per-box
+// tests built on them, on the frames of every generic family: the same verdicts (and, for plane
+// coherency, the same cache and the same count of plane tests, from every cache content); the
+// octant composition with its cache against OctantCuller's corrected test on the symmetric frusta
+// among them.
+TEST(NodeTests, ComposeToTheLibrarysPerBoxTests) {
+  std::size_t boxes_seen = 0, octant_boxes = 0;
+  for (const gen::Distribution d : gen::generic_distributions())
+    for (std::uint64_t i = 0; i < 40; ++i) {
+      const gen::Frame frame = gen::draw_frame(d, 7, i, kBoxes, kAabbKind);
+      const Frustum& f = frame.frustum.planes;
+      SCOPED_TRACE(std::string(gen::to_string(d)) + " frame " + std::to_string(i));
+      const node::SelectedPlanes sel(f);
+      std::optional<OctantCuller> octant;
+      if (is_bounded(f) && is_symmetric(f, 1e-5)) octant.emplace(f);
+      for (const Volume& v : frame.volumes) {
+        const Aabb& box = std::get<Aabb>(v);
+        ++boxes_seen;
+        std::uint64_t tests = 0;
+        const Visibility want = pn_vertex(f, box);
+        EXPECT_EQ(node::all_planes(sel, box, tests), want);
+        for (int start = -1; start < 6; ++start) {
+          std::int8_t mine = static_cast<std::int8_t>(start);
+          PlaneCoherencyCache lib{static_cast<std::int8_t>(start)};
+          std::uint64_t t1 = 0, t2 = 0;
+          EXPECT_EQ(node::plane_coherency(sel, box, mine, t1), plane_coherency_test(f, box, lib, &t2));
+          EXPECT_EQ(mine, lib.last_outside_plane);
+          EXPECT_EQ(t1, t2);
+        }
+        std::uint32_t mask = 0x3f;
+        EXPECT_EQ(node::masked(sel, box, mask, tests), want);
+        if (octant) {
+          // A second pass starts from the plane the first one cached: one plane test for a box
+          // it rejected, the same verdicts.
+          ++octant_boxes;
+          std::int8_t cache = -1;
+          const Visibility first = node::octant_coherent(*octant, sel, box, cache, tests);
+          EXPECT_EQ(first, octant->classify_corrected(box));
+          std::uint64_t again = 0;
+          EXPECT_EQ(node::octant_coherent(*octant, sel, box, cache, again), first);
+          if (first == Visibility::outside && cache >= 0) {
+            EXPECT_EQ(again, 1u);
+          }
+        }
+      }
+    }
+  EXPECT_GT(boxes_seen, 0u);
+  EXPECT_GT(octant_boxes, 0u) << "no symmetric frustum among the frames: the octant composition went untested";
+  RecordProperty("octant_boxes", static_cast<int>(octant_boxes));
+}
 
 }  // namespace

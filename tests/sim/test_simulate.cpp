@@ -1,20 +1,15 @@
 // The simulator: which optimisations it enables and why, exhaustive verification of small
-// scenes against the oracle, determinism, and the inline node tests against the library.
-#include "cullproof/core/node_tests.hpp"
+// scenes against the oracle, determinism.
 #include "cullproof/sim/simulate.hpp"
 #include "cullproof/sim/engine.hpp"
 
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/oracle/oracle.hpp"
 
-#include "cullproof/core/cull.hpp"
-#include "cullproof/core/cull_coherence.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <fstream>
-#include <random>
 
 #include <unistd.h>
 
@@ -221,61 +216,6 @@ TEST(Determinism, SameSceneSameFrames) {
 
 // ---------------------------------------------------------------------------------------------
 // The inline node tests give the library's verdicts bit for bit.
-
-namespace {
-
-struct RandomCase {
-  Frustum f;
-  Aabb box;
-};
-
-RandomCase random_case(std::mt19937_64& g) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  PerspectiveCamera cam;
-  cam.eye = glm::vec3(u(g), u(g), u(g)) * 20.0f;
-  cam.target = cam.eye + glm::vec3(u(g), u(g) * 0.3f, u(g) + 2.0f);
-  cam.fovy_degrees = 30.0f + 60.0f * (u(g) + 1.0f) / 2.0f;
-  cam.near_dist = 0.1f;
-  cam.far_dist = 60.0f;
-  RandomCase c;
-  c.f = frustum_from_matrix(view_projection(cam));
-  const glm::vec3 centre = cam.eye + glm::vec3(u(g), u(g), u(g)) * 40.0f;
-  const glm::vec3 half = glm::abs(glm::vec3(u(g), u(g), u(g))) * (u(g) > 0.0f ? 0.5f : 8.0f);
-  c.box = Aabb{centre - half, centre + half};
-  return c;
-}
-
-}  // namespace
-
-// The per-node tests the simulator composes against the library's per-case tests: the same
-// verdicts (and, for plane coherency, the same cache and plane tests); the octant composition
-// against OctantCuller's corrected test.
-TEST(NodeTests, MatchTheLibrary) {
-  std::mt19937_64 g(7);
-  for (int k = 0; k < 20000; ++k) {
-    const RandomCase c = random_case(g);
-    const node::SelectedPlanes sel(c.f);
-    std::uint64_t tests = 0;
-    EXPECT_EQ(node::all_planes(sel, c.box, tests), pn_vertex(c.f, c.box));
-    for (int start = -1; start < 6; ++start) {
-      std::int8_t mine = static_cast<std::int8_t>(start);
-      PlaneCoherencyCache lib{static_cast<std::int8_t>(start)};
-      std::uint64_t t1 = 0, t2 = 0;
-      EXPECT_EQ(node::plane_coherency(sel, c.box, mine, t1), plane_coherency_test(c.f, c.box, lib, &t2));
-      EXPECT_EQ(mine, lib.last_outside_plane);
-      EXPECT_EQ(t1, t2);
-    }
-    std::uint32_t mask = 0x3f;
-    const Visibility vm = node::masked(sel, c.box, mask, tests);
-    EXPECT_EQ(vm, pn_vertex(c.f, c.box));
-    if (is_symmetric(c.f)) {
-      const OctantCuller oc(c.f);
-      const node::OctantFrame o(c.f, oc.centre_distance());
-      std::int8_t cache = -1;
-      EXPECT_EQ(node::octant_coherent(o, c.box, cache, tests), oc.classify_corrected(c.box));
-    }
-  }
-}
 
 // ---------------------------------------------------------------------------------------------
 // The shipped scenes over the real meshes (Debian libcgal-demo).

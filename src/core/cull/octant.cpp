@@ -65,16 +65,22 @@ OctantCuller::OctantCuller(const Frustum& frustum) {
   if (!is_symmetric(frustum, 1e-5))
     throw CullerPreconditionError("octant: frustum is not symmetric (A&M 2000 §3.3 and footnote 6: "
                                   "for asymmetric frustums the octant test cannot be used)");
+  const Frustum planes = frustum.normalized();
+  const glm::dvec3 c = frustum_center(frustum);
+  double d1 = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kPlaneCount; ++i) {
+    const Plane& p = planes[i];
+    const double v = double(p.n.x) * c.x + double(p.n.y) * c.y + double(p.n.z) * c.z + p.d;
+    d1 = std::min(d1, v);
+  }
+  *this = OctantCuller(frustum, d1);
+}
+
+OctantCuller::OctantCuller(const Frustum& frustum, double centre_distance) {
   given_ = frustum;
   planes_ = frustum.normalized();
   for (int i = 0; i < kPlaneCount; ++i) inv_len_[i] = 1.0 / glm::length(glm::dvec3(frustum[i].n));
-  const glm::dvec3 c = frustum_center(frustum);
-  d1_ = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kPlaneCount; ++i) {
-    const Plane& p = planes_[i];
-    const double v = double(p.n.x) * c.x + double(p.n.y) * c.y + double(p.n.z) * c.z + p.d;
-    d1_ = std::min(d1_, v);
-  }
+  d1_ = centre_distance;
   d1_sq_ = d1_ > 0.0 ? d1_ * d1_ : -1.0;  // a frustum centre outside a plane: never octant
 }
 
@@ -102,18 +108,31 @@ Visibility OctantCuller::classify(const Aabb& box) const noexcept {
 }
 
 Visibility OctantCuller::classify_corrected(const Aabb& box) const noexcept {
+  std::uint64_t tests = 0;
+  std::int8_t rejecting = -1;
+  return classify_corrected(box, tests, rejecting);
+}
+
+Visibility OctantCuller::classify_corrected(const Aabb& box, std::uint64_t& tests, std::int8_t& rejecting) const noexcept {
   const glm::vec3 h = box.half_extent();
   const double d2_sq = double(h.x) * h.x + double(h.y) * h.y + double(h.z) * h.z;
   // A half-extent that overflows float (a box reaching across most of the range) is infinite
   // here and takes the full test.
-  if (!(d2_sq <= d1_sq_)) return pn_vertex_index(given_, box);
+  if (!(d2_sq <= d1_sq_)) {
+    tests += 6;
+    return pn_vertex_index(given_, box);
+  }
   int outer[3], inner[3];
   float nearer[3];
   node::octant_sides(planes_, box.center(), outer, inner, nearer);
   bool intersect = false;
   for (int k = 0; k < 3; ++k) {
+    ++tests;
     const int r = plane_test_wide(given_[outer[k]], box);
-    if (r == 0) return Visibility::outside;
+    if (r == 0) {
+      rejecting = static_cast<std::int8_t>(outer[k]);
+      return Visibility::outside;
+    }
     if (r == 1) intersect = true;
   }
   if (intersect) return Visibility::intersecting;
@@ -134,8 +153,10 @@ Visibility OctantCuller::classify_corrected(const Aabb& box) const noexcept {
     sphere_inside = v - d2 > 16 * kUnit * (mag + d2);
   }
   if (sphere_inside) return Visibility::inside;
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < 3; ++k) {
+    ++tests;
     if (plane_test_wide(given_[inner[k]], box) != 2) return Visibility::intersecting;
+  }
   return Visibility::inside;
 }
 

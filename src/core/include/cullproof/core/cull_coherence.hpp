@@ -57,6 +57,13 @@ class OctantCuller {
   /// the three inner planes confirm it. The fig. 6 fallback is the n/p-vertex test on the given
   /// planes.
   Visibility classify_corrected(const Aabb& box) const noexcept;
+  /// classify_corrected, counting its plane tests in `tests` (the fig. 6 fallback counts six) and
+  /// setting `rejecting` to the outer plane that rejected the box (left as it was otherwise).
+  Visibility classify_corrected(const Aabb& box, std::uint64_t& tests, std::int8_t& rejecting) const noexcept;
+  /// For a frustum whose projection the one-argument constructor accepted, moved rigidly (a
+  /// rigid camera motion keeps the frustum symmetric and its centre distance): no checks, d1 as
+  /// given (<= 0: the octant never applies, every box takes the fallback).
+  OctantCuller(const Frustum& frustum, double centre_distance);
   /// d1: distance from the frustum centre to its nearest plane.
   double centre_distance() const noexcept { return d1_; }
 

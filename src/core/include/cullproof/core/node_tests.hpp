@@ -7,6 +7,7 @@
 // straddling it), so a verdict is bit for bit pn_vertex's.
 #pragma once
 
+#include "cullproof/core/cull_coherence.hpp"
 #include "cullproof/core/geometry.hpp"
 #include "cullproof/core/plane_select.hpp"
 
@@ -95,68 +96,17 @@ inline void octant_sides(const Frustum& normalised, const glm::vec3& centre, int
   }
 }
 
-/// Per-frame data of octant_coherent: the normalised planes, selected, and the squared centre
-/// distance d1^2 (-1 when the frustum centre is outside a plane: the octant never applies).
-struct OctantFrame {
-  Frustum planes;
-  SelectedPlanes sel;
-  double d1_sq = -1.0;
-  OctantFrame() = default;
-  /// From a frustum OctantCuller accepts and its centre_distance().
-  OctantFrame(const Frustum& f, double centre_distance) noexcept {
-    planes = f.normalized();
-    sel = SelectedPlanes(planes);
-    d1_sq = centre_distance > 0.0 ? centre_distance * centre_distance : -1.0;
-  }
-};
-
-/// Plane coherency and the octant test together (A&M Table 1 "plane coherency + octant"): when
-/// the box's half-diagonal d2 is at most d1 (fig. 6's precondition), the cached plane first, then
-/// the three outer planes; inside when the box's bounding sphere is inside the three outer planes
-/// (its centre's value at least d2, in float), else as the three inner planes confirm; a box
-/// larger than that takes plane_coherency. A rejecting plane is cached.
-inline Visibility octant_coherent(const OctantFrame& o, const Aabb& box, std::int8_t& cache,
-                                  std::uint64_t& tests) noexcept {
-  const glm::vec3 h = box.half_extent();
-  const double d2_sq = double(h.x) * h.x + double(h.y) * h.y + double(h.z) * h.z;
-  if (!(d2_sq <= o.d1_sq)) return plane_coherency(o.sel, box, cache, tests);
-  const float* b = box_floats(box);
-  const int first = cache >= 0 && cache < 6 ? cache : -1;
-  int r_first = -1;
-  if (first >= 0) {  // the plane that rejected the box last frame, first
+/// Plane coherency and the octant test together (A&M Table 1 "plane coherency + octant"): the
+/// plane that rejected the box last time first (`cache`, -1: none; `given` the frustum's planes
+/// as given, selected), then OctantCuller's corrected octant test, whose rejecting outer plane is
+/// cached. The verdict is classify_corrected's wherever the cached plane does not reject.
+inline Visibility octant_coherent(const OctantCuller& octant, const SelectedPlanes& given, const Aabb& box,
+                                  std::int8_t& cache, std::uint64_t& tests) noexcept {
+  if (cache >= 0 && cache < 6) {
     ++tests;
-    r_first = test_selected_plane(o.sel.p[first], b);
-    if (r_first == 0) return Visibility::outside;
+    if (test_selected_plane(given.p[cache], box_floats(box)) == 0) return Visibility::outside;
   }
-  int outer[3], inner[3];
-  float nearer[3];
-  octant_sides(o.planes, box.center(), outer, inner, nearer);
-  bool sphere_inside = true;
-  for (int k = 0; k < 3; ++k) {
-    const double m = nearer[k];
-    sphere_inside = sphere_inside && m >= 0.0 && m * m >= d2_sq;
-  }
-  bool intersect = false;
-  for (int k = 0; k < 3; ++k) {
-    if (outer[k] == first) {  // already tested above (not outside)
-      if (r_first == 1) intersect = true;
-      continue;
-    }
-    ++tests;
-    const int r = test_selected_plane(o.sel.p[outer[k]], b);
-    if (r == 0) {
-      cache = static_cast<std::int8_t>(outer[k]);
-      return Visibility::outside;
-    }
-    if (r == 1) intersect = true;
-  }
-  if (sphere_inside) return Visibility::inside;
-  if (intersect) return Visibility::intersecting;
-  for (int k = 0; k < 3; ++k) {
-    ++tests;
-    if (test_selected_plane(o.sel.p[inner[k]], b) != 2) return Visibility::intersecting;
-  }
-  return Visibility::inside;
+  return octant.classify_corrected(box, tests, cache);
 }
 
 }  // namespace cullproof::node

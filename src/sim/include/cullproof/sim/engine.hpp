@@ -8,6 +8,7 @@
 #include "cullproof/core/node_tests.hpp"
 #include "cullproof/sim/simulate.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,11 +32,11 @@ struct ConfigView {
   const View* view = nullptr;
   node::SelectedPlanes sel;
   bool octant_ok = false;
-  node::OctantFrame oct;
+  std::optional<OctantCuller> oct;  ///< this frame's, when octant_ok
   std::string octant_why;
   bool oct_checked = false, oct_valid = false;  ///< the octant decision for projection oct_proj
   glm::mat4 oct_proj{1.0f};
-  double oct_d1_sq = -1.0;
+  double oct_d1 = 0.0;               ///< the centre distance of projection oct_proj
   bool tr_used = false;
   std::string tr_why;
   TrCoherencyCuller::Stats tr_before;
