@@ -136,30 +136,35 @@ Frustum frustum_from_camera(const PerspectiveCamera& c) {
   return f;
 }
 
-glm::mat4 view_projection(const PerspectiveCamera& c, DepthConvention depth) {
-  validate_camera(c);
-  const float fovy = glm::radians(c.fovy_degrees);
+glm::mat4 perspective_projection(float fovy_degrees, float aspect, float near_dist, float far_dist, DepthConvention depth) {
+  const float fovy = glm::radians(fovy_degrees);
   glm::mat4 proj;
-  if (std::isinf(c.far_dist)) {
+  if (std::isinf(far_dist)) {
     if (depth.range == DepthRange::negative_one_to_one) {
-      proj = glm::infinitePerspective(fovy, c.aspect, c.near_dist);
+      proj = glm::infinitePerspective(fovy, aspect, near_dist);
     } else {
       // Infinite [0,1] projection (the limit of perspectiveRH_ZO as far -> infinity).
       const float t = std::tan(fovy / 2.0f);
       proj = glm::mat4(0.0f);
-      proj[0][0] = 1.0f / (c.aspect * t);
+      proj[0][0] = 1.0f / (aspect * t);
       proj[1][1] = 1.0f / t;
       proj[2][2] = -1.0f;
       proj[2][3] = -1.0f;
-      proj[3][2] = -c.near_dist;
+      proj[3][2] = -near_dist;
     }
   } else if (depth.range == DepthRange::negative_one_to_one) {
-    proj = glm::perspectiveRH_NO(fovy, c.aspect, c.near_dist, c.far_dist);
+    proj = glm::perspectiveRH_NO(fovy, aspect, near_dist, far_dist);
   } else {
-    proj = glm::perspectiveRH_ZO(fovy, c.aspect, c.near_dist, c.far_dist);
+    proj = glm::perspectiveRH_ZO(fovy, aspect, near_dist, far_dist);
   }
   if (depth.reversed_z) proj = reverse_depth(proj, depth.range);
-  return proj * glm::lookAtRH(c.eye, c.target, c.up);
+  return proj;
+}
+
+glm::mat4 view_projection(const PerspectiveCamera& c, DepthConvention depth) {
+  validate_camera(c);
+  return perspective_projection(c.fovy_degrees, c.aspect, c.near_dist, c.far_dist, depth) *
+         glm::lookAtRH(c.eye, c.target, c.up);
 }
 
 glm::vec3 hoff_cop_world(const HoffCamera& c) noexcept {

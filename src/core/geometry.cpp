@@ -95,7 +95,50 @@ float difference_at_least(float a, float b) noexcept {
   return float_at_least(e > 0.0 ? std::nextafter(s, std::numeric_limits<double>::infinity()) : s);
 }
 
+// x + y for doubles: the sum rounded, and its rounding error, exactly (Knuth's TwoSum).
+struct ExactSum {
+  double sum, error;
+};
+ExactSum two_sum(double x, double y) noexcept {
+  const double s = x + y, yv = s - x;
+  return {s, (x - (s - yv)) + (y - yv)};
+}
+
+// The float bounds of c - e and c + e, for a float c and e >= 0 given as a rounded double
+// with its error `e_error` (the exact e is e + e_error), rounded outward.
+void outward(float c, double e, double e_error, float& lo, float& hi) noexcept {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const ExactSum l = two_sum(double(c), -e), h = two_sum(double(c), e);
+  // Exact: lo = l.sum + l.error - e_error, hi = h.sum + h.error + e_error. Where anything was
+  // rounded, a step of one double outward (far more than the errors) before rounding to float.
+  const bool exact_lo = l.error == 0.0 && e_error == 0.0, exact_hi = h.error == 0.0 && e_error == 0.0;
+  lo = float_at_most(exact_lo ? l.sum : std::nextafter(l.sum, -inf));
+  hi = float_at_least(exact_hi ? h.sum : std::nextafter(h.sum, inf));
+}
+
 }  // namespace
+
+Aabb enclosing_box(const Volume& v) noexcept {
+  Aabb out;
+  if (const auto* p = std::get_if<Point>(&v)) {
+    out = Aabb{*p, *p};
+  } else if (const auto* b = std::get_if<Aabb>(&v)) {
+    out = *b;
+  } else if (const auto* s = std::get_if<Sphere>(&v)) {
+    for (int k = 0; k < 3; ++k) outward(s->center[k], double(s->radius), 0.0, out.min[k], out.max[k]);
+  } else {
+    const Obb& o = std::get<Obb>(v);
+    for (int k = 0; k < 3; ++k) {
+      // The extent along axis k, sum_i h_i |u_i[k]|: each product exact in double, the two sums
+      // with their errors (all terms >= 0).
+      const double t0 = double(o.half[0]) * std::abs(double(o.axes[0][k])), t1 = double(o.half[1]) * std::abs(double(o.axes[1][k])),
+                   t2 = double(o.half[2]) * std::abs(double(o.axes[2][k]));
+      const ExactSum a = two_sum(t0, t1), e = two_sum(a.sum, t2);
+      outward(o.center[k], e.sum, a.error + e.error, out.min[k], out.max[k]);
+    }
+  }
+  return out;
+}
 
 Obb enclosing_obb(const Aabb& b) noexcept {
   Obb o = to_obb(b);

@@ -1,6 +1,8 @@
 // The GoogleTest helper (see cullproof/gtest/gtest.hpp).
 #include "cullproof/gtest/gtest.hpp"
 
+#include "helper_text.hpp"
+
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/corpus/corpus.hpp"
 
@@ -14,7 +16,7 @@
 
 namespace cullproof::testing {
 
-namespace {
+namespace detail {
 
 std::optional<std::string> env(const char* name) {
   const char* v = std::getenv(name);
@@ -38,26 +40,13 @@ std::uint64_t env_number(const char* name, std::uint64_t fallback) {
   return x;
 }
 
-VerifyOptions options_of(const ClaimOptions& o) {
-  VerifyOptions v;
-  v.cases = env_number("CULLPROOF_CASES", o.cases);
-  v.seed = env_number("CULLPROOF_SEED", o.seed);
-  v.distributions = o.distributions;
-  if (const auto d = env("CULLPROOF_DISTRIBUTION")) v.distributions = gen::parse_distributions(*d);
-  if (env("CULLPROOF_INDEX")) v.only_index = env_number("CULLPROOF_INDEX", 0);
-  v.corpus = o.corpus ? *o.corpus : std::filesystem::path("cullproof-corpus");
-  if (const auto c = env("CULLPROOF_CORPUS")) v.corpus = std::filesystem::path(*c);
-  v.corpus_per_class = 0;  // only what breaks the claim
-  v.threads = o.threads;
-  v.shrink_budget = o.shrink_budget;
-  v.progress = false;
-  v.timing = false;
-  return v;
-}
+namespace {
 
 std::string hex3(const glm::vec3& x) {
   return fmt::format("[{}, {}, {}]", format_hex_float(x.x), format_hex_float(x.y), format_hex_float(x.z));
 }
+
+}  // namespace
 
 std::string hex_numbers(const Case& c) {
   std::string s = "  frustum (hex):";
@@ -83,6 +72,31 @@ std::string hex_numbers(const Case& c) {
       },
       c.volume);
   return s;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::env;
+using detail::env_number;
+using detail::hex_numbers;
+
+VerifyOptions options_of(const ClaimOptions& o) {
+  VerifyOptions v;
+  v.cases = env_number("CULLPROOF_CASES", o.cases);
+  v.seed = env_number("CULLPROOF_SEED", o.seed);
+  v.distributions = o.distributions;
+  if (const auto d = env("CULLPROOF_DISTRIBUTION")) v.distributions = gen::parse_distributions(*d);
+  if (env("CULLPROOF_INDEX")) v.only_index = env_number("CULLPROOF_INDEX", 0);
+  v.corpus = o.corpus ? *o.corpus : std::filesystem::path("cullproof-corpus");
+  if (const auto c = env("CULLPROOF_CORPUS")) v.corpus = std::filesystem::path(*c);
+  v.corpus_per_class = 0;  // only what breaks the claim
+  v.threads = o.threads;
+  v.shrink_budget = o.shrink_budget;
+  v.progress = false;
+  v.timing = false;
+  return v;
 }
 
 std::string describe(const CorpusEntry& e) {

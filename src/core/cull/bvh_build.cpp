@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace cullproof {
 
@@ -76,6 +78,30 @@ Bvh build_bvh(const std::vector<Aabb>& boxes, std::uint32_t max_leaf_size) {
   bvh.prim_boxes.reserve(boxes.size());
   for (std::uint32_t k : bvh.prim_order) bvh.prim_boxes.push_back(boxes[k]);
   return bvh;
+}
+
+void refit_bvh(Bvh& bvh, const std::vector<Aabb>& boxes) {
+  if (boxes.size() != bvh.prim_order.size())
+    throw std::invalid_argument("refit_bvh: " + std::to_string(boxes.size()) + " boxes for a BVH over " +
+                                std::to_string(bvh.prim_order.size()) + " primitives");
+  for (std::size_t k = 0; k < bvh.prim_order.size(); ++k) bvh.prim_boxes[k] = boxes[bvh.prim_order[k]];
+  auto join = [](Aabb a, const Aabb& b) {
+    a.min = glm::min(a.min, b.min);
+    a.max = glm::max(a.max, b.max);
+    return a;
+  };
+  // Depth-first order puts every child after its parent: from the last node back, a node's
+  // children are refitted before it.
+  for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
+    BvhNode& n = bvh.nodes[i];
+    if (n.is_leaf()) {
+      Aabb b = bvh.prim_boxes[n.right_or_first];
+      for (std::uint32_t k = n.right_or_first + 1; k < n.right_or_first + n.count; ++k) b = join(b, bvh.prim_boxes[k]);
+      n.box = b;
+    } else {
+      n.box = join(bvh.nodes[i + 1].box, bvh.nodes[n.right_or_first].box);
+    }
+  }
 }
 
 }  // namespace cullproof

@@ -62,6 +62,12 @@ int median_split(std::uint32_t* first, std::uint32_t* last, std::size_t at, cons
 /// O(n log n); depth <= ceil(log2 n) + 1. Boxes must be valid (min <= max).
 Bvh build_bvh(const std::vector<Aabb>& boxes, std::uint32_t max_leaf_size = 1);
 
+/// The same tree over new primitive boxes (boxes[i] is primitive i's, as given to build_bvh): every
+/// node's box recomputed bottom-up as the exact min/max of its children's (a leaf's: of its
+/// primitives'), so a node again encloses its subtree (a refit after objects moved). O(node
+/// count). Throws std::invalid_argument when the count of boxes is not the BVH's.
+void refit_bvh(Bvh& bvh, const std::vector<Aabb>& boxes);
+
 /// Per-traversal counters.
 struct CullStats {
   std::uint64_t nodes_visited = 0;  ///< nodes whose box was tested (or accepted by a mask)

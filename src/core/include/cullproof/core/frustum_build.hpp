@@ -75,6 +75,10 @@ Frustum frustum_from_camera(const PerspectiveCamera& cam);
 /// glm::perspective (or infinitePerspective when far is infinite) times glm::lookAt, for the
 /// given depth convention (reversed-Z swaps near and far in the matrix).
 glm::mat4 view_projection(const PerspectiveCamera& cam, DepthConvention depth = {});
+/// The projection alone of view_projection: glm::perspective (infinitePerspective, or its [0, 1]
+/// limit, when `far_dist` is infinite) for the depth convention, reversed-Z swapping near and far.
+glm::mat4 perspective_projection(float fovy_degrees, float aspect, float near_dist, float far_dist,
+                                 DepthConvention depth = {});
 
 /// Hoff's camera (Hoff 1996): camera axes in world coordinates, an origin, a centre of
 /// projection (COP) in camera coordinates that may be off-axis, a viewplane window on the camera

@@ -98,6 +98,10 @@ Obb to_obb(const Aabb& b) noexcept;
 /// faces, rounded up. to_obb's roundings can drop a sliver of the box (half an ulp of a subnormal
 /// centre, say); a method that claims never to reject a visible box takes this one instead.
 Obb enclosing_obb(const Aabb& b) noexcept;
+/// The smallest float box that holds the whole volume: its extreme coordinates worked out with
+/// their rounding errors (TwoSum) and rounded outward. What a system that culls objects by their
+/// boxes tests. A volume whose extent overflows float gets infinite bounds.
+Aabb enclosing_box(const Volume& v) noexcept;
 
 /// Thrown when input geometry is invalid. what() names the field and the problem.
 class ValidationError : public std::invalid_argument {

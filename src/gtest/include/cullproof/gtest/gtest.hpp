@@ -18,6 +18,8 @@
 
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/methods/methods.hpp"
+#include "cullproof/scenes/scenes.hpp"
+#include "cullproof/systems/system.hpp"
 
 #include <gtest/gtest.h>
 
@@ -56,5 +58,44 @@ struct ClaimOptions {
 /// The campaign behind claim_holds, for a test that wants the numbers (error counts, rates,
 /// costs): the options with the environment overrides applied, run on `methods`.
 VerifyResult verify_methods(const std::vector<Method>& methods, const ClaimOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------
+// Culling systems (cullproof/systems/system.hpp), in one line:
+//
+//   TEST(MySystem, HoldsItsClaim) { EXPECT_TRUE(cullproof::testing::system_holds(my_system())); }
+//
+// system_holds draws runs of every scene family (cullproof/scenes/scenes.hpp), runs the system
+// over each (build, updates, a cull per frame) and judges every object of every frame exactly.
+// It fails with the first object-frame that breaks the claim: the run (family, index, seed, what
+// moves), the frame and what the camera did, the object, the verdict and the truth, the case as a
+// case-format line with its numbers in hex, and how to rerun exactly that run:
+//   CULLPROOF_SEED=S  CULLPROOF_SCENE_FAMILY=NAME  CULLPROOF_SCENE_INDEX=I  CULLPROOF_RUNS=N
+//   CULLPROOF_OBJECTS=N  CULLPROOF_FRAMES=N
+
+struct SystemOptions {
+  std::uint64_t runs = 6;  ///< per family
+  std::uint64_t seed = 1;
+  scenes::RunSize size;    ///< objects and frames per run
+  std::vector<std::string> families = scenes::parse_families("all");
+};
+
+/// Whether `system` holds its claim on every object-frame of the runs. A fault (a phase threw, a
+/// visible set that is not one) fails with the fault.
+::testing::AssertionResult system_holds(const System& system, const SystemOptions& options = {});
+
+/// The tally behind system_holds, per family, for a test that wants the numbers.
+struct FamilyTally {
+  std::string family;
+  std::uint64_t runs = 0, judged = 0, claim_broken = 0;
+  std::uint64_t by_class[5] = {};
+  /// The first run whose claim broke, and what broke it.
+  std::optional<scenes::SceneRun> broken_run;
+  std::optional<scenes::Finding> broken;
+  /// From the start of verify_system to the end of that run (families in order, runs in order):
+  /// seconds and object-frames judged, the cost of finding the failure.
+  double seconds_to_broken = 0.0;
+  std::uint64_t judged_to_broken = 0;
+};
+std::vector<FamilyTally> verify_system(const System& system, const SystemOptions& options = {});
 
 }  // namespace cullproof::testing

@@ -1,0 +1,143 @@
+// A system run over a scene and judged: every object of every frame against the exact truth,
+// under the system's claim (cullproof/scenes/scenes.hpp).
+#include "cullproof/scenes/scenes.hpp"
+
+#include "cullproof/gen/generators.hpp"
+#include "cullproof/oracle/oracle.hpp"
+
+#include <chrono>
+#include <exception>
+
+namespace cullproof::scenes {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Runs `phase` of the system; anything it throws becomes a SystemFault naming the phase and frame.
+template <class F>
+void guarded(const System& s, const char* phase, std::size_t frame, F&& f) {
+  try {
+    f();
+  } catch (const SystemFault&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw SystemFault("system '" + s.name + "' threw in " + phase + " on frame " + std::to_string(frame) + ": " + e.what(),
+                      frame);
+  } catch (...) {
+    throw SystemFault("system '" + s.name + "' threw a non-exception in " + phase + " on frame " + std::to_string(frame),
+                      frame);
+  }
+}
+
+}  // namespace
+
+void verdicts_by_position(const SystemInfo& info, const std::unordered_map<std::uint32_t, std::size_t>& position,
+                          const VisibleSet& set, std::vector<Visibility>& out) {
+  out.assign(position.size(), Visibility::outside);
+  const bool with_verdicts = !set.verdicts.empty();
+  if (with_verdicts && set.verdicts.size() != set.indices.size())
+    throw std::runtime_error("the visible set has " + std::to_string(set.indices.size()) + " ids and " +
+                             std::to_string(set.verdicts.size()) + " verdicts");
+  if (!with_verdicts && info.three_way && !set.indices.empty())
+    throw std::runtime_error("a three-way system's visible set has no verdicts (" + std::to_string(set.indices.size()) +
+                             " ids)");
+  std::vector<bool> seen(position.size(), false);
+  for (std::size_t k = 0; k < set.indices.size(); ++k) {
+    const std::uint32_t id = set.indices[k];
+    const auto it = position.find(id);
+    if (it == position.end())
+      throw std::runtime_error("entry " + std::to_string(k) + " of the visible set: id " + std::to_string(id) +
+                               " is not in the scene");
+    if (seen[it->second])
+      throw std::runtime_error("entry " + std::to_string(k) + " of the visible set: id " + std::to_string(id) + " again");
+    seen[it->second] = true;
+    const Visibility v = with_verdicts ? set.verdicts[k] : Visibility::intersecting;
+    if (v != Visibility::inside && v != Visibility::intersecting)
+      throw std::runtime_error("entry " + std::to_string(k) + " of the visible set: id " + std::to_string(id) +
+                               " listed with verdict " + (v == Visibility::outside ? std::string("outside") : std::to_string(int(v))));
+    if (v == Visibility::inside && !info.three_way)
+      throw std::runtime_error("entry " + std::to_string(k) + " of the visible set: id " + std::to_string(id) +
+                               " answered inside by a two-way system");
+    out[it->second] = v;
+  }
+}
+
+RunJudgement judge_run(const System& system, const SceneRun& run) {
+  RunJudgement j;
+  std::unordered_map<std::uint32_t, std::size_t> position;
+  position.reserve(run.scene.objects.size());
+  for (std::size_t i = 0; i < run.scene.objects.size(); ++i) position.emplace(run.scene.objects[i].id, i);
+  // The world volumes as they are this frame (moves applied).
+  std::vector<Volume> world;
+  world.reserve(run.scene.objects.size());
+  for (const SceneObject& o : run.scene.objects) world.push_back(o.world);
+
+  auto t = Clock::now();
+  std::unique_ptr<SystemState> state;
+  guarded(system, "build", 0, [&] { state = system.build(run.scene); });
+  if (!state) throw SystemFault("system '" + system.name + "' built nothing (a null state) for scene " + run.scene.name, 0);
+  j.cull_seconds += seconds_since(t);
+
+  VisibleSet set;
+  std::vector<Visibility> verdicts;
+  for (std::size_t k = 0; k < run.frames.size(); ++k) {
+    const RunFrame& frame = run.frames[k];
+    for (const SceneObject& o : frame.moved) world[position.at(o.id)] = o.world;
+    t = Clock::now();
+    if (!frame.moved.empty()) guarded(system, "update", k, [&] { state->update(frame.moved); });
+    set.clear();
+    guarded(system, "cull", k, [&] { state->cull(frame.view, set); });
+    j.cull_seconds += seconds_since(t);
+    try {
+      verdicts_by_position(system, position, set, verdicts);
+    } catch (const std::exception& e) {
+      throw SystemFault("system '" + system.name + "' on frame " + std::to_string(k) + ": " + e.what(), k);
+    }
+
+    t = Clock::now();
+    const CaseFrustum& f = frame.view.frustum;
+    for (std::size_t i = 0; i < world.size(); ++i) {
+      const Volume& v = world[i];
+      const bool takes = system.takes(v);
+      if (!takes) continue;
+      const Visibility truth = oracle::truth(f, v);
+      const ErrorClass e = error_class(verdicts[i], truth, system.three_way);
+      ++j.judged;
+      ++j.by_class[std::size_t(e)];
+      if (e == ErrorClass::correct) continue;
+      Finding found;
+      found.frame = k, found.id = run.scene.objects[i].id, found.object = i;
+      found.verdict = verdicts[i], found.truth = truth, found.error = e;
+      const bool exact_case = gen::float_exact(f, v);
+      found.distance = needs_distance(system.claim, e, exact_case) ? error_distance(f, v, verdicts[i]) : 0.0;
+      found.breaks_claim =
+          violates_claim(system.claim, e, found.distance, system.tolerance, gen::case_scale(f, v), exact_case);
+      if (!j.first_error) j.first_error = found;
+      if (found.breaks_claim) {
+        ++j.claim_broken;
+        if (!j.first_broken) j.first_broken = found;
+      }
+    }
+    j.judge_seconds += seconds_since(t);
+  }
+  return j;
+}
+
+Case case_of(const SceneRun& run, std::size_t frame, std::size_t object) {
+  Case c;
+  const SceneObject& o = run.scene.objects.at(object);
+  c.id = run.family + "-" + std::to_string(run.index) + "-f" + std::to_string(frame) + "-o" + std::to_string(o.id);
+  c.frustum = run.frames.at(frame).view.frustum;
+  c.volume = o.world;
+  for (std::size_t k = 1; k <= frame; ++k)
+    for (const SceneObject& m : run.frames[k].moved)
+      if (m.id == o.id) c.volume = m.world;
+  c.note = "scene " + run.scene.name + " (seed " + std::to_string(run.seed) + "), frame " + std::to_string(frame) +
+           " (camera: " + run.frames[frame].camera + "), object " + std::to_string(o.id);
+  return c;
+}
+
+}  // namespace cullproof::scenes
