@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cullproof/methods/methods.hpp"
+#include "cullproof/systems/system.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -33,6 +34,9 @@ struct ExternalProgram {
   /// The program's methods named by --external beside the built-in ones named in `builtin`, or
   /// the built-in ones alone; std::invalid_argument when a name or the program is missing.
   std::vector<Method> methods(const std::vector<std::string>& builtin, int instances = 1) const;
+  /// The program's culling systems named by --external beside the built-in ones named in
+  /// `builtin`, or the built-in ones alone (all of them when none is named).
+  std::vector<System> systems(const std::vector<std::string>& builtin) const;
 };
 
 /// `methods [--json]`.
@@ -112,6 +116,25 @@ void add_report(CLI::App& app, ReportCommand& c);
 /// 0 when the page is written (and, for a run, no claim of an own or user method broke: then 1,
 /// as `verify`); 2 for bad input or missing page scripts.
 int run_report_command(const ReportCommand& c);
+#endif
+
+#ifdef CULLPROOF_HAVE_SCENES
+/// `systems [--system NAME ...] [--family F ...] [--runs N] [--objects N] [--frames N] [--seed S]
+/// [--index I] [--json FILE] [--corpus DIR | --no-corpus]`.
+struct SystemsCommand {
+  CLI::App* cmd = nullptr;
+  CLI::Option* index_option = nullptr;
+  std::vector<std::string> systems, families;
+  std::uint64_t runs = 6, objects = 200, frames = 12, seed = 1, index = 0;
+  int shrink_budget = 300;
+  std::string json_file, corpus_dir = "corpus";
+  bool no_corpus = false;
+};
+void add_systems(CLI::App& app, SystemsCommand& c, ExternalProgram& external);
+/// Per system a table per family; 1 when the claim of an own or user system broke (its first
+/// failing run shrunk and recorded), 2 for bad input or a fault (the run it happened on recorded
+/// under <corpus>/systems/faults/).
+int run_systems_command(const SystemsCommand& c, const ExternalProgram& external);
 #endif
 
 #ifdef CULLPROOF_HAVE_SIM

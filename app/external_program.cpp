@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 
 namespace cullproof::app {
@@ -30,34 +31,58 @@ void ExternalProgram::add_options(CLI::App* cmd) {
       ->check(CLI::Range(1, 256));
 }
 
-// The program's methods named by --external ('all': every one it offers), beside the built-in
-// ones named by --method, if any; or the built-in ones.
-std::vector<Method> ExternalProgram::methods(const std::vector<std::string>& builtin, int instances) const {
-  if (names.empty()) {
-    if (!command.empty()) throw std::invalid_argument("a program after '--' needs --external NAME");
-    return builtin_methods(builtin);
-  }
-  if (command.empty()) throw std::invalid_argument("--external " + names[0] + " needs the program after '--'");
-  ExternalOptions eo;
-  eo.command = command;
-  eo.timeout = std::chrono::milliseconds(timeout_ms);
-  eo.instances = instances;
-  std::vector<Method> offered = external_methods(eo);
+namespace {
+
+// The entries of `offered` named by `names` ('all': every one), each once, in the order named,
+// then those of `builtin`; std::invalid_argument naming a name the program does not offer.
+template <class T>
+std::vector<T> chosen(const std::vector<T>& offered, const std::vector<std::string>& names, std::vector<T> builtin,
+                      const std::string& kind) {
   std::string on_offer;
-  for (const Method& m : offered) on_offer += (on_offer.empty() ? "" : ", ") + m.name;
-  std::vector<Method> out;
+  for (const T& x : offered) on_offer += (on_offer.empty() ? "" : ", ") + x.name;
+  std::vector<T> out;
   for (const std::string& wanted : names) {
     bool found = false;
-    for (const Method& m : offered)
-      if (wanted == "all" || m.name == wanted) {
+    for (const T& x : offered)
+      if (wanted == "all" || x.name == wanted) {
         found = true;
-        if (std::none_of(out.begin(), out.end(), [&](const Method& o) { return o.name == m.name; })) out.push_back(m);
+        if (std::none_of(out.begin(), out.end(), [&](const T& o) { return o.name == x.name; })) out.push_back(x);
       }
-    if (!found) throw std::invalid_argument("the program offers no method named '" + wanted + "' (it offers: " + on_offer + ")");
+    if (!found)
+      throw std::invalid_argument("the program offers no " + kind + " named '" + wanted + "' (it offers: " +
+                                  (on_offer.empty() ? std::string("none") : on_offer) + ")");
   }
-  if (!builtin.empty())
-    for (Method& b : builtin_methods(builtin)) out.push_back(std::move(b));
+  for (T& b : builtin) out.push_back(std::move(b));
   return out;
+}
+
+// The program's options, or nullopt when no program is named; std::invalid_argument for a program
+// without --external or the reverse.
+std::optional<ExternalOptions> options_of(const ExternalProgram& p, int instances) {
+  if (p.names.empty()) {
+    if (!p.command.empty()) throw std::invalid_argument("a program after '--' needs --external NAME");
+    return std::nullopt;
+  }
+  if (p.command.empty()) throw std::invalid_argument("--external " + p.names[0] + " needs the program after '--'");
+  ExternalOptions eo;
+  eo.command = p.command;
+  eo.timeout = std::chrono::milliseconds(p.timeout_ms);
+  eo.instances = instances;
+  return eo;
+}
+
+}  // namespace
+
+std::vector<Method> ExternalProgram::methods(const std::vector<std::string>& builtin, int instances) const {
+  const auto eo = options_of(*this, instances);
+  if (!eo) return builtin_methods(builtin);
+  return chosen(external_methods(*eo), names, builtin.empty() ? std::vector<Method>{} : builtin_methods(builtin), "method");
+}
+
+std::vector<System> ExternalProgram::systems(const std::vector<std::string>& builtin) const {
+  const auto eo = options_of(*this, 1);
+  if (!eo) return builtin_systems(builtin);
+  return chosen(external_systems(*eo), names, builtin.empty() ? std::vector<System>{} : builtin_systems(builtin), "system");
 }
 
 }  // namespace cullproof::app

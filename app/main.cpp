@@ -8,6 +8,9 @@
 //   cullproof corpus list|show ID|replay [--dir DIR] [--strict] [--external NAME|all -- PROGRAM ARGS...]
 //   cullproof report [--from FILE | verify's options] [--out FILE] [--corpus DIR | --no-corpus]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
+//   cullproof systems [--system NAME ...] [--family F ...] [--runs N] [--objects N] [--frames N] [--seed S]
+//                     [--index I] [--json FILE] [--corpus DIR | --no-corpus]
+//                     [--external NAME|all ... [--external-timeout MS] -- PROGRAM ARGS...]
 //
 // Each subcommand lives in its own file and declares its options there (commands.hpp); this one
 // parses and dispatches. The oracle's subcommands, the report and the simulator are built when
@@ -50,6 +53,11 @@ static int run(int argc, char** argv) {
   CorpusCommand corpus;
   add_corpus(app, corpus, external);
   commands.emplace_back(&corpus.cmd, [&] { return run_corpus_command(corpus, external); });
+#endif
+#ifdef CULLPROOF_HAVE_SCENES
+  SystemsCommand systems;
+  add_systems(app, systems, external);
+  commands.emplace_back(&systems.cmd, [&] { return run_systems_command(systems, external); });
 #endif
 #ifdef CULLPROOF_HAVE_SIM
   SimulateCommand simulate;

@@ -26,10 +26,11 @@ std::vector<std::filesystem::path> corpus_case_files(const std::filesystem::path
   if (!std::filesystem::exists(dir)) return files;
   for (auto it = std::filesystem::recursive_directory_iterator(dir); it != std::filesystem::recursive_directory_iterator();
        ++it) {
-    // corpus/scenes/ (scene files), corpus/scenes-*/ and corpus/faults/ (the cases that made a
-    // method fault, without a truth or a verdict) are not mismatch cases.
+    // corpus/scenes/ (scene files), corpus/scenes-*/, corpus/faults/ (the cases that made a
+    // method fault, without a truth or a verdict) and corpus/systems/ (culling systems' shrunk
+    // runs, cullproof/scenes/scenes.hpp) are not mismatch cases.
     const std::string name = it->path().filename().string();
-    if (it.depth() == 0 && it->is_directory() && (name.rfind("scenes", 0) == 0 || name == "faults")) {
+    if (it.depth() == 0 && it->is_directory() && (name.rfind("scenes", 0) == 0 || name == "faults" || name == "systems")) {
       it.disable_recursion_pending();
       continue;
     }

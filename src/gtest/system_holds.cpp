@@ -6,8 +6,6 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
-
 namespace cullproof::testing {
 
 namespace {
@@ -21,6 +19,8 @@ SystemOptions with_environment(SystemOptions o) {
   o.size.objects = env_number("CULLPROOF_OBJECTS", o.size.objects);
   o.size.frames = env_number("CULLPROOF_FRAMES", o.size.frames);
   if (const auto f = env("CULLPROOF_SCENE_FAMILY")) o.families = scenes::parse_families(*f);
+  if (!o.corpus) o.corpus = std::filesystem::path("cullproof-corpus") / "systems";
+  if (const auto c = env("CULLPROOF_CORPUS")) o.corpus = std::filesystem::path(*c);
   return o;
 }
 
@@ -34,33 +34,10 @@ std::string reproduce(const SystemOptions& o, const std::string& family, std::ui
 
 std::vector<FamilyTally> verify_system(const System& system, const SystemOptions& options) {
   const SystemOptions o = with_environment(options);
-  const auto only = env("CULLPROOF_SCENE_INDEX");
-  std::vector<FamilyTally> out;
-  const auto start = std::chrono::steady_clock::now();
-  std::uint64_t judged = 0;
-  for (const std::string& family : o.families) {
-    FamilyTally t;
-    t.family = family;
-    const std::uint64_t first = only ? env_number("CULLPROOF_SCENE_INDEX", 0) : 0;
-    const std::uint64_t last = only ? first + 1 : o.runs;
-    for (std::uint64_t i = first; i < last; ++i) {
-      scenes::SceneRun run = scenes::draw_run(family, o.seed, i, o.size);
-      const scenes::RunJudgement j = scenes::judge_run(system, run);
-      ++t.runs;
-      t.judged += j.judged;
-      judged += j.judged;
-      t.claim_broken += j.claim_broken;
-      for (int c = 0; c < 5; ++c) t.by_class[c] += j.by_class[c];
-      if (j.first_broken && !t.broken) {
-        t.broken = j.first_broken;
-        t.broken_run = std::move(run);
-        t.seconds_to_broken = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        t.judged_to_broken = judged;
-      }
-    }
-    out.push_back(std::move(t));
-  }
-  return out;
+  scenes::VerifyRuns runs;
+  runs.runs = o.runs, runs.seed = o.seed, runs.size = o.size, runs.families = o.families;
+  if (env("CULLPROOF_SCENE_INDEX")) runs.only_index = env_number("CULLPROOF_SCENE_INDEX", 0);
+  return scenes::verify_system(system, runs);
 }
 
 ::testing::AssertionResult system_holds(const System& system, const SystemOptions& options) {
@@ -88,18 +65,33 @@ std::vector<FamilyTally> verify_system(const System& system, const SystemOptions
   if (broken == 0)
     return ::testing::AssertionSuccess() << system.name << " holds its claim '" << to_string(system.claim) << "' on "
                                          << judged << " object-frames";
-  const scenes::SceneRun& run = *first->broken_run;
-  const scenes::Finding& f = *first->broken;
+  const scenes::SceneRun& found = *first->broken_run;
+  scenes::ShrinkStats st;
+  const scenes::SceneRun run = scenes::shrink_run(system, found, *first->broken, o.shrink_budget, &st);
+  scenes::Finding f = *first->broken;
+  try {
+    if (const auto j = scenes::judge_run(system, run); j.first_broken) f = *j.first_broken;
+  } catch (const scenes::SystemFault&) {
+  }
   const Case c = scenes::case_of(run, f.frame, f.object);
+  const std::string again = reproduce(o, found.family, found.index);
   std::string msg = fmt::format("{} ({} system) breaks its claim '{}' on {} of {} object-frames (seed {}):\n{}", system.name,
                                 to_string(system.origin), to_string(system.claim), broken, judged, o.seed, counts);
-  msg += fmt::format("first: run {} of {} ({} objects, {} frames, moving: {}), frame {} (camera: {}), object {}\n",
-                     run.index, run.family, run.scene.objects.size(), run.frames.size(), run.motion, f.frame,
-                     run.frames[f.frame].camera, f.id);
-  msg += fmt::format("  {} says {} where the truth is {} ({}); distance to the verdict given {}\n", system.name,
-                     to_string(f.verdict), to_string(f.truth), to_string(f.error), f.distance);
+  msg += fmt::format("first: run {} of {} ({} objects, {} frames, moving: {}), shrunk in {} system runs to {} object(s), "
+                     "{} frame(s), {} move(s)\n",
+                     found.index, found.family, found.scene.objects.size(), found.frames.size(), found.motion, st.tries,
+                     run.scene.objects.size(), run.frames.size(), st.moves_after);
+  msg += fmt::format("  on frame {} of the shrunk run (camera: {}), object {}: {} says {} where the truth is {} ({}); "
+                     "distance to the verdict given {}\n",
+                     f.frame, run.frames[f.frame].camera, f.id, system.name, to_string(f.verdict), to_string(f.truth),
+                     to_string(f.error), f.distance);
   msg += "  case: " + format_case(c) + "\n" + detail::hex_numbers(c) + "\n";
-  msg += "  reproduce: " + reproduce(o, run.family, run.index) + "\n";
+  try {
+    msg += "  record: " + scenes::write_system_record(*o.corpus, system, run, f, again).string() + "\n";
+  } catch (const std::exception& e) {
+    msg += std::string("  (the shrunk run could not be recorded: ") + e.what() + ")\n";
+  }
+  msg += "  reproduce: " + again + "\n";
   return ::testing::AssertionFailure() << msg;
 }
 

@@ -293,7 +293,124 @@ class Prepared : public PreparedFrustum {
   CaseFrustum f_;
 };
 
+// ---- culling systems (protocol version 2)
+
+std::string floats_text(const float* x, int n) {
+  std::string s = "[";
+  for (int i = 0; i < n; ++i) s += (i ? ", " : "") + number(x[i]);
+  return s + "]";
+}
+
+std::string object_text(const SceneObject& o) {
+  return fmt::format("{{\"id\": {}, \"world\": {}, \"local\": {}, \"transform\": {}}}", o.id, volume_text(o.world),
+                     volume_text(o.local), floats_text(&o.transform[0][0], 16));
+}
+
+std::string view_text(const CullView& v) {
+  return "{\"frustum\": " + frustum_text(v.frustum) + ", \"view\": " + floats_text(&v.view[0][0], 16) +
+         ", \"projection\": " + floats_text(&v.projection[0][0], 16) + ", \"eye\": " + floats_text(&v.eye[0], 3) +
+         ", \"axes\": " + floats_text(&v.axes[0][0], 9) + ", \"perspective\": " + (v.perspective ? "true" : "false") + "}";
+}
+
+// A system of the program: which scene it holds (the latest built), so that a state whose scene
+// was replaced is not asked about another's.
+struct ExternalSystem {
+  std::shared_ptr<Process> process;
+  SystemInfo info;
+  std::uint64_t scene = 0;  // the number of the latest scene built
+};
+
+class ExternalSystemState final : public SystemState {
+ public:
+  ExternalSystemState(std::shared_ptr<ExternalSystem> s, const Scene& scene) : s_(std::move(s)) {
+    std::string msg;
+    for (const SceneObject& o : scene.objects)
+      if (s_->info.takes(o.world)) msg += (objects_ ? ", " : "") + object_text(o), ++objects_;
+    Process& p = *s_->process;
+    std::lock_guard<std::mutex> g(p.mutex);
+    p.check_alive();
+    const std::uint64_t id = p.next_frame++;
+    msg = fmt::format("{{\"frame\": {}, \"system\": {}, \"scene\": {{\"name\": {}, \"objects\": [", id,
+                      json(s_->info.name).dump(), json(scene.name).dump()) +
+          msg + "]}}";
+    scene_ = s_->scene = id;
+    exchange(p, msg, fmt::format("scene message {} ({} object(s) for system '{}')", id, objects_, s_->info.name),
+             [&](const std::string& line, const std::string& what) { protocol::parse_acknowledgement(line, id, "built", what); });
+  }
+
+  void update(const std::vector<SceneObject>& moved) override {
+    std::string list;
+    std::size_t n = 0;
+    for (const SceneObject& o : moved)
+      if (s_->info.takes(o.world)) list += (n ? ", " : "") + object_text(o), ++n;
+    if (n == 0) return;
+    Process& p = *s_->process;
+    std::lock_guard<std::mutex> g(p.mutex);
+    check(p);
+    const std::uint64_t id = p.next_frame++;
+    exchange(p,
+             fmt::format("{{\"frame\": {}, \"system\": {}, \"moved\": [{}]}}", id, json(s_->info.name).dump(), list),
+             fmt::format("update message {} ({} moved object(s) for system '{}')", id, n, s_->info.name),
+             [&](const std::string& line, const std::string& what) { protocol::parse_acknowledgement(line, id, "updated", what); });
+  }
+
+  void cull(const CullView& view, VisibleSet& out) override {
+    Process& p = *s_->process;
+    std::lock_guard<std::mutex> g(p.mutex);
+    check(p);
+    const std::uint64_t id = p.next_frame++;
+    exchange(p, fmt::format("{{\"frame\": {}, \"system\": {}, \"view\": {}}}", id, json(s_->info.name).dump(), view_text(view)),
+             fmt::format("cull message {} (system '{}', a scene of {} object(s))", id, s_->info.name, objects_),
+             [&](const std::string& line, const std::string& what) {
+               out = protocol::parse_visible(line, id, objects_, s_->info.three_way, what).set;
+             });
+  }
+
+ private:
+  // Whether the program may be asked for this state: alive, and this state's scene still its.
+  void check(Process& p) const {
+    p.check_alive();
+    if (s_->scene != scene_)
+      throw std::logic_error("system '" + s_->info.name + "': its scene was replaced by a later build (one scene at a time "
+                             "per system of a program)");
+  }
+  // Sends `msg` and hands the answer line to `read`; what it refuses is the program's fault.
+  template <class Read>
+  void exchange(Process& p, const std::string& msg, const std::string& what, Read read) {
+    p.send(msg, what);
+    const std::size_t limit = kMaxAnswerBytes + objects_ * kMaxAnswerBytesPerVolume;
+    const std::string line = p.read_line(what, limit, "its answer to " + what,
+                                         fmt::format("an answer about {} object(s) ({} KiB and {} bytes an object)", objects_,
+                                                     kMaxAnswerBytes >> 10, kMaxAnswerBytesPerVolume));
+    try {
+      read(line, what);
+    } catch (const std::runtime_error& bad) {
+      p.fail(bad.what());
+    }
+  }
+
+  std::shared_ptr<ExternalSystem> s_;
+  std::uint64_t scene_ = 0;
+  std::size_t objects_ = 0;
+};
+
 }  // namespace
+
+std::vector<System> external_systems(const ExternalOptions& options) {
+  auto process = std::make_shared<Process>(options);
+  const std::string handshake = process->read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake");
+  std::vector<System> out;
+  for (SystemInfo& info : protocol::parse_offered_systems(handshake, process->name())) {
+    info.program = process->name();
+    auto s = std::make_shared<ExternalSystem>();
+    s->process = process;
+    s->info = info;
+    out.emplace_back(std::move(info), [s](const Scene& scene) -> std::unique_ptr<SystemState> {
+      return std::make_unique<ExternalSystemState>(s, scene);
+    });
+  }
+  return out;
+}
 
 std::vector<Method> external_methods(const ExternalOptions& options) {
   if (options.instances < 1) throw std::invalid_argument("external: instances must be at least 1");

@@ -53,9 +53,8 @@ unsigned kinds_of(const json& j, const std::string& where) {
   return k;
 }
 
-}  // namespace
-
-std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::string& program) {
+// The handshake line as JSON, its version checked (1 or 2); `version` gets it.
+json read_handshake(std::string_view line, const std::string& program, int& version) {
   const std::string who = "external program '" + program + "': ";
   json h;
   try {
@@ -69,51 +68,77 @@ std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::str
   if (!h.is_object() || !h.contains("protocol") || !h["protocol"].is_number_integer())
     throw std::runtime_error(where + ": no \"protocol\" version number");
   // Compared as the number written (an unsigned 64-bit or a signed one), never narrowed to int.
-  const json& version = h["protocol"];
-  const bool ours = version.is_number_unsigned() ? version.get<std::uint64_t>() == std::uint64_t(kProtocolVersion)
-                                                  : version.get<std::int64_t>() == kProtocolVersion;
-  if (!ours)
-    throw std::runtime_error(fmt::format("{}: protocol version {}, this cullproof speaks version {}", where, version.dump(),
-                                         kProtocolVersion));
-  if (!h.contains("methods") || !h["methods"].is_array() || h["methods"].empty())
-    throw std::runtime_error(where + ": no \"methods\" array");
+  const json& v = h["protocol"];
+  version = 0;
+  for (int known = 1; known <= kProtocolVersion; ++known)
+    if (v.is_number_unsigned() ? v.get<std::uint64_t>() == std::uint64_t(known) : v.get<std::int64_t>() == known) version = known;
+  if (version == 0)
+    throw std::runtime_error(
+        fmt::format("{}: protocol version {}, this cullproof speaks versions 1 to {}", where, v.dump(), kProtocolVersion));
+  const bool methods = h.contains("methods") && h["methods"].is_array() && !h["methods"].empty();
+  const bool systems = version >= 2 && h.contains("systems") && h["systems"].is_array() && !h["systems"].empty();
+  if (version == 1 && !methods) throw std::runtime_error(where + ": no \"methods\" array");
+  if (!methods && !systems) throw std::runtime_error(where + ": neither \"methods\" nor \"systems\" offered");
+  if (h.contains("methods") && !h["methods"].is_array()) throw std::runtime_error(where + ": \"methods\" is not an array");
+  if (h.contains("systems") && !h["systems"].is_array()) throw std::runtime_error(where + ": \"systems\" is not an array");
+  return h;
+}
+
+// What a method and a system describe alike: claim, tolerance, volumes, three_way, touching,
+// origin, description and source.
+void read_description(const json& m, MethodInfo& info, const std::string& program, const std::string& at) {
+  info.origin = Origin::user;
+  info.description = string_field(m, "description", "external program: " + program, at);
+  info.source = string_field(m, "source", program, at);
+  const std::string claim = string_field(m, "claim", "none", at);
+  try {
+    info.claim = claim_from_string(claim);
+  } catch (const std::invalid_argument&) {
+    std::string known;
+    for (Claim c : {Claim::certified_conservative, Claim::certified_exact, Claim::conservative, Claim::exact, Claim::none})
+      known += (known.empty() ? "" : ", ") + std::string(to_string(c));
+    throw std::runtime_error(at + ": \"claim\" " + excerpt(json(claim).dump()) + " is not a claim (" + known + ")");
+  }
+  if (const auto t = m.find("tolerance"); t != m.end()) {
+    if (!t->is_number() || !(t->get<double>() >= 0.0))
+      throw std::runtime_error(at + ": \"tolerance\" " + excerpt(t->dump()) + " is not a number >= 0");
+    info.tolerance = t->get<double>();
+  }
+  info.volumes = kinds_of(m.contains("volumes") ? m["volumes"] : json(), at);
+  info.three_way = bool_field(m, "three_way", true, at);
+  info.touching = string_field(m, "touching", std::string(), at);
+  const std::string origin = string_field(m, "origin", "user", at);
+  if (origin == "published") info.origin = Origin::published;
+  else if (origin != "user")
+    throw std::runtime_error(at + ": \"origin\" " + excerpt(json(origin).dump()) + " is not \"user\" or \"published\"");
+}
+
+// The entry's "name": present, a non-empty string, not offered before.
+std::string name_of(const json& m, std::set<std::string>& names, const std::string& at) {
+  if (!m.is_object() || !m.contains("name") || !m["name"].is_string() || m["name"].get<std::string>().empty())
+    throw std::runtime_error(at + ": no \"name\"");
+  const std::string name = m["name"].get<std::string>();
+  if (!names.insert(name).second) throw std::runtime_error(at + ": \"name\" " + excerpt(json(name).dump()) + " is offered twice");
+  return name;
+}
+
+}  // namespace
+
+std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::string& program) {
+  int version = 0;
+  const json h = read_handshake(line, program, version);
+  const std::string where = "external program '" + program + "': handshake";
   std::vector<OfferedMethod> out;
   std::set<std::string> names;
-  for (std::size_t i = 0; i < h["methods"].size(); ++i) {
-    const json& m = h["methods"][i];
+  const json methods = h.contains("methods") ? h["methods"] : json::array();
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    const json& m = methods[i];
     const std::string at = fmt::format("{}, methods[{}]", where, i);
-    if (!m.is_object() || !m.contains("name") || !m["name"].is_string() || m["name"].get<std::string>().empty())
-      throw std::runtime_error(at + ": no \"name\"");
     OfferedMethod o;
     MethodInfo& info = o.info;
-    info.name = m["name"].get<std::string>();
-    if (!names.insert(info.name).second)
-      throw std::runtime_error(at + ": \"name\" " + excerpt(json(info.name).dump()) + " is offered twice");
-    info.origin = Origin::user;
-    info.description = string_field(m, "description", "external program: " + program, at);
-    info.source = string_field(m, "source", program, at);
-    const std::string claim = string_field(m, "claim", "none", at);
-    try {
-      info.claim = claim_from_string(claim);
-    } catch (const std::invalid_argument&) {
-      std::string known;
-      for (Claim c : {Claim::certified_conservative, Claim::certified_exact, Claim::conservative, Claim::exact, Claim::none})
-        known += (known.empty() ? "" : ", ") + std::string(to_string(c));
-      throw std::runtime_error(at + ": \"claim\" " + excerpt(json(claim).dump()) + " is not a claim (" + known + ")");
-    }
-    if (const auto t = m.find("tolerance"); t != m.end()) {
-      if (!t->is_number() || !(t->get<double>() >= 0.0))
-        throw std::runtime_error(at + ": \"tolerance\" " + excerpt(t->dump()) + " is not a number >= 0");
-      info.tolerance = t->get<double>();
-    }
-    info.volumes = kinds_of(m.contains("volumes") ? m["volumes"] : json(), at);
-    info.three_way = bool_field(m, "three_way", true, at);
+    info.name = name_of(m, names, at);
+    read_description(m, info, program, at);
     info.stateful = bool_field(m, "stateful", false, at);
-    info.touching = string_field(m, "touching", std::string(), at);
-    const std::string origin = string_field(m, "origin", "user", at);
-    if (origin == "published") info.origin = Origin::published;
-    else if (origin != "user")
-      throw std::runtime_error(at + ": \"origin\" " + excerpt(json(origin).dump()) + " is not \"user\" or \"published\"");
     const std::string frustum = string_field(m, "frustum", "planes", at);
     if (frustum == "matrix") o.wants_matrix = true;
     else if (frustum != "planes")
@@ -123,7 +148,35 @@ std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::str
   return out;
 }
 
-Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volumes, const std::string& what) {
+std::vector<SystemInfo> parse_offered_systems(std::string_view line, const std::string& program) {
+  int version = 0;
+  const json h = read_handshake(line, program, version);
+  const std::string where = "external program '" + program + "': handshake";
+  std::vector<SystemInfo> out;
+  if (version < 2 || !h.contains("systems")) return out;
+  static const std::set<std::string> kFields = {"name", "description", "source", "claim", "tolerance",
+                                                "volumes", "three_way", "touching", "origin"};
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < h["systems"].size(); ++i) {
+    const json& m = h["systems"][i];
+    const std::string at = fmt::format("{}, systems[{}]", where, i);
+    SystemInfo info;
+    info.name = name_of(m, names, at);
+    for (const auto& [key, value] : m.items())
+      if (!kFields.count(key))
+        throw std::runtime_error(fmt::format("{}: unknown field {} (a system's fields: name, description, source, claim, "
+                                             "tolerance, volumes, three_way, touching, origin)",
+                                             at, excerpt(json(key).dump())));
+    read_description(m, info, program, at);
+    out.push_back(std::move(info));
+  }
+  return out;
+}
+
+namespace {
+
+// A line of an answer as JSON, its frame number checked and a reported error thrown.
+json answer_json(std::string_view line, std::uint64_t frame, const std::string& what) {
   json a;
   try {
     a = parse_json_limited(line, kMaxProtocolDepth, "a protocol message");
@@ -139,6 +192,70 @@ Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volum
                                          a["frame"].get<std::uint64_t>(), what, excerpt(line)));
   if (a.contains("error") && a["error"].is_string())
     throw std::runtime_error(fmt::format("reported an error for {}: {}", what, excerpt(a["error"].get<std::string>())));
+  return a;
+}
+
+std::optional<double> ns_of(const json& a, const std::string& what) {
+  const auto t = a.find("ns");
+  if (t == a.end()) return std::nullopt;
+  if (!t->is_number() || !(t->get<double>() >= 0.0))
+    throw std::runtime_error(
+        fmt::format("answered {} with \"ns\" {}, which is not a number of nanoseconds", what, excerpt(t->dump())));
+  return t->get<double>();
+}
+
+}  // namespace
+
+void parse_acknowledgement(std::string_view line, std::uint64_t frame, const char* key, const std::string& what) {
+  const json a = answer_json(line, frame, what);
+  const auto k = a.find(key);
+  if (k == a.end() || !k->is_boolean() || !k->get<bool>())
+    throw std::runtime_error(fmt::format("answered {} without \"{}\": true: {}", what, key, excerpt(line)));
+}
+
+VisibleReply parse_visible(std::string_view line, std::uint64_t frame, std::size_t objects, bool three_way,
+                           const std::string& what) {
+  const json a = answer_json(line, frame, what);
+  const auto ids = a.find("visible");
+  if (ids == a.end() || !ids->is_array())
+    throw std::runtime_error(fmt::format("answered {} without a \"visible\" array: {}", what, excerpt(line)));
+  if (ids->size() > objects)
+    throw std::runtime_error(
+        fmt::format("answered {} with {} visible id(s) for a scene of {} object(s): {}", what, ids->size(), objects, excerpt(line)));
+  VisibleReply r;
+  r.ns = ns_of(a, what);
+  r.set.indices.reserve(ids->size());
+  for (std::size_t i = 0; i < ids->size(); ++i) {
+    const json& x = (*ids)[i];
+    if (!x.is_number_unsigned() || x.get<std::uint64_t>() > 0xffffffffull)
+      throw std::runtime_error(
+          fmt::format("answered {} with visible[{}] = {}, which is not an id (0 to 2^32 - 1)", what, i, excerpt(x.dump())));
+    r.set.indices.push_back(x.get<std::uint32_t>());
+  }
+  const auto v = a.find("verdicts");
+  if (v == a.end()) {
+    if (three_way)
+      throw std::runtime_error(fmt::format("answered {} without \"verdicts\" (a three-way system gives one per id): {}", what,
+                                           excerpt(line)));
+    return r;
+  }
+  if (!v->is_array() || v->size() != ids->size())
+    throw std::runtime_error(fmt::format("answered {} with {} verdict(s) for {} visible id(s): {}", what,
+                                         v->is_array() ? v->size() : 0, ids->size(), excerpt(line)));
+  r.set.verdicts.reserve(v->size());
+  for (std::size_t i = 0; i < v->size(); ++i) {
+    const json& x = (*v)[i];
+    if (!(x.is_string() && (x == "intersecting" || (x == "inside" && three_way))))
+      throw std::runtime_error(fmt::format("answered {} with verdicts[{}] = {}, which is not {} (a visible set lists the "
+                                           "objects drawn)",
+                                           what, i, excerpt(x.dump()), three_way ? "\"inside\" or \"intersecting\"" : "\"intersecting\" (a two-way system)"));
+    r.set.verdicts.push_back(visibility_from_string(x.get<std::string>()));
+  }
+  return r;
+}
+
+Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volumes, const std::string& what) {
+  const json a = answer_json(line, frame, what);
   const auto v = a.find("verdicts");
   if (v == a.end() || !v->is_array())
     throw std::runtime_error(fmt::format("answered {} without a \"verdicts\" array: {}", what, excerpt(line)));
@@ -146,12 +263,7 @@ Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volum
     throw std::runtime_error(
         fmt::format("answered {} with {} verdict(s) for {} volume(s): {}", what, v->size(), volumes, excerpt(line)));
   Reply r;
-  if (const auto t = a.find("ns"); t != a.end()) {
-    if (!t->is_number() || !(t->get<double>() >= 0.0))
-      throw std::runtime_error(
-          fmt::format("answered {} with \"ns\" {}, which is not a number of nanoseconds", what, excerpt(t->dump())));
-    r.ns = t->get<double>();
-  }
+  r.ns = ns_of(a, what);
   r.verdicts.reserve(volumes);
   for (std::size_t i = 0; i < volumes; ++i) {
     const json& x = (*v)[i];

@@ -3,7 +3,6 @@
 #include "cullproof/scenes/scenes.hpp"
 
 #include "cullproof/gen/generators.hpp"
-#include "cullproof/oracle/oracle.hpp"
 
 #include <chrono>
 #include <exception>
@@ -70,10 +69,13 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
   std::unordered_map<std::uint32_t, std::size_t> position;
   position.reserve(run.scene.objects.size());
   for (std::size_t i = 0; i < run.scene.objects.size(); ++i) position.emplace(run.scene.objects[i].id, i);
-  // The world volumes as they are this frame (moves applied).
-  std::vector<Volume> world;
-  world.reserve(run.scene.objects.size());
-  for (const SceneObject& o : run.scene.objects) world.push_back(o.world);
+  // The world volumes as they are this frame (moves applied), and their truths.
+  std::vector<Volume> start;
+  start.reserve(run.scene.objects.size());
+  for (const SceneObject& o : run.scene.objects) start.push_back(o.world);
+  SceneTruths truths(std::move(start));
+  const std::vector<Volume>& world = truths.world();
+  std::vector<Visibility> truth;
 
   auto t = Clock::now();
   std::unique_ptr<SystemState> state;
@@ -85,7 +87,7 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
   std::vector<Visibility> verdicts;
   for (std::size_t k = 0; k < run.frames.size(); ++k) {
     const RunFrame& frame = run.frames[k];
-    for (const SceneObject& o : frame.moved) world[position.at(o.id)] = o.world;
+    for (const SceneObject& o : frame.moved) truths.move(position.at(o.id), o.world);
     t = Clock::now();
     if (!frame.moved.empty()) guarded(system, "update", k, [&] { state->update(frame.moved); });
     set.clear();
@@ -99,18 +101,18 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
 
     t = Clock::now();
     const CaseFrustum& f = frame.view.frustum;
+    truths.decide(f, truth);
     for (std::size_t i = 0; i < world.size(); ++i) {
       const Volume& v = world[i];
-      const bool takes = system.takes(v);
-      if (!takes) continue;
-      const Visibility truth = oracle::truth(f, v);
-      const ErrorClass e = error_class(verdicts[i], truth, system.three_way);
+      if (!system.takes(v)) continue;
+      const ErrorClass e = error_class(verdicts[i], truth[i], system.three_way);
       ++j.judged;
+      j.truth_outside += truth[i] == Visibility::outside;
       ++j.by_class[std::size_t(e)];
       if (e == ErrorClass::correct) continue;
       Finding found;
       found.frame = k, found.id = run.scene.objects[i].id, found.object = i;
-      found.verdict = verdicts[i], found.truth = truth, found.error = e;
+      found.verdict = verdicts[i], found.truth = truth[i], found.error = e;
       const bool exact_case = gen::float_exact(f, v);
       found.distance = needs_distance(system.claim, e, exact_case) ? error_distance(f, v, verdicts[i]) : 0.0;
       found.breaks_claim =
@@ -123,7 +125,47 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
     }
     j.judge_seconds += seconds_since(t);
   }
+  j.oracle_calls = truths.oracle_calls();
   return j;
+}
+
+std::vector<FamilyTally> verify_system(const System& system, const VerifyRuns& runs) {
+  std::vector<FamilyTally> out;
+  const auto start = Clock::now();
+  std::uint64_t judged = 0;
+  for (const std::string& family : runs.families) {
+    FamilyTally t;
+    t.family = family;
+    const std::uint64_t first = runs.only_index ? *runs.only_index : 0;
+    const std::uint64_t last = runs.only_index ? first + 1 : runs.runs;
+    for (std::uint64_t i = first; i < last; ++i) {
+      SceneRun run = draw_run(family, runs.seed, i, runs.size);
+      RunJudgement j;
+      try {
+        j = judge_run(system, run);
+      } catch (const SystemFault& f) {
+        throw SystemFault(std::string(f.what()) + " (run " + std::to_string(i) + " of " + family + ", seed " +
+                              std::to_string(runs.seed) + ")",
+                          f.frame(), std::make_shared<const SceneRun>(std::move(run)));
+      }
+      ++t.runs;
+      t.judged += j.judged;
+      t.truth_outside += j.truth_outside;
+      judged += j.judged;
+      t.claim_broken += j.claim_broken;
+      t.cull_seconds += j.cull_seconds;
+      t.judge_seconds += j.judge_seconds;
+      for (int c = 0; c < 5; ++c) t.by_class[c] += j.by_class[c];
+      if (j.first_broken && !t.broken) {
+        t.broken = j.first_broken;
+        t.broken_run = std::move(run);
+        t.seconds_to_broken = seconds_since(start);
+        t.judged_to_broken = judged;
+      }
+    }
+    out.push_back(std::move(t));
+  }
+  return out;
 }
 
 Case case_of(const SceneRun& run, std::size_t frame, std::size_t object) {

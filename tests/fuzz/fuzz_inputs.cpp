@@ -107,7 +107,9 @@ void protocol_reader(std::string_view bytes) {
   const std::string program = "fuzz-program";
   try {
     const std::vector<protocol::OfferedMethod> offered = protocol::parse_handshake(bytes, program);
-    if (offered.empty()) broken("a handshake read without methods", bytes);
+    // Version 2 may offer systems alone; then the same line reads as systems.
+    if (offered.empty() && protocol::parse_offered_systems(bytes, program).empty())
+      broken("a handshake read without methods or systems", bytes);
     for (std::size_t i = 0; i < offered.size(); ++i) {
       const MethodInfo& m = offered[i].info;
       if (m.name.empty() || m.volumes == 0 || !(m.tolerance >= 0.0)) broken("a method read without its name, kinds or tolerance", bytes);
@@ -116,6 +118,33 @@ void protocol_reader(std::string_view bytes) {
     }
   } catch (const std::runtime_error& e) {
     names_source(e, "external program '" + program + "': ");
+  }
+  try {
+    const std::vector<SystemInfo> systems = protocol::parse_offered_systems(bytes, program);
+    for (std::size_t i = 0; i < systems.size(); ++i) {
+      const SystemInfo& s = systems[i];
+      if (s.name.empty() || s.volumes == 0 || !(s.tolerance >= 0.0)) broken("a system read without its name, kinds or tolerance", bytes);
+      for (std::size_t k = 0; k < i; ++k)
+        if (systems[k].name == s.name) broken("a handshake read with a system named twice", s.name);
+    }
+  } catch (const std::runtime_error& e) {
+    names_source(e, "external program '" + program + "': ");
+  }
+  for (const bool three_way : {true, false}) {
+    try {
+      const protocol::VisibleReply r = protocol::parse_visible(bytes, 1, 3, three_way, "cull message 1");
+      const VisibleSet& v = r.set;
+      if (v.indices.size() > 3) broken("a visible set read with more ids than objects", bytes);
+      if (!v.verdicts.empty() && v.verdicts.size() != v.indices.size()) broken("a visible set read with another number of verdicts", bytes);
+      if (three_way && v.verdicts.size() != v.indices.size()) broken("a three-way visible set read without its verdicts", bytes);
+      for (const Visibility x : v.verdicts)
+        if (x == Visibility::outside || (!three_way && x == Visibility::inside)) broken("a visible set read with a verdict it may not hold", bytes);
+      if (r.ns && !(*r.ns >= 0.0)) broken("a visible set read with a negative time", bytes);
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      if (what.rfind("answered ", 0) != 0 && what.rfind("reported an error for cull message 1", 0) != 0)
+        broken("a visible set refused without saying which message", what);
+    }
   }
   for (std::size_t volumes : {std::size_t(1), std::size_t(3)}) {
     try {

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 using namespace cullproof;
 
 namespace {
@@ -16,7 +18,9 @@ class SystemMutation : public ::testing::TestWithParam<mutants::SystemMutant> {}
 TEST_P(SystemMutation, MutantRefutedControlHolds) {
   const mutants::SystemMutant& m = GetParam();
   const System s = mutants::make_system_mutant(m);
-  const ::testing::AssertionResult r = cullproof::testing::system_holds(s);
+  cullproof::testing::SystemOptions o;
+  o.corpus = std::filesystem::path(::testing::TempDir()) / "cullproof-system-mutants";
+  const ::testing::AssertionResult r = cullproof::testing::system_holds(s, o);
   if (m.control()) {
     EXPECT_TRUE(r) << "control " << m.name << " flagged";
     return;
@@ -25,11 +29,12 @@ TEST_P(SystemMutation, MutantRefutedControlHolds) {
   const std::string msg = r.message();
   EXPECT_NE(msg.find(m.name + " (user system) breaks its claim 'conservative'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("reproduce: CULLPROOF_SEED="), std::string::npos) << msg;
+  EXPECT_NE(msg.find("  record: "), std::string::npos) << msg;
   // The cost of the first failure (docs/mutation.md), and the families that show the bug.
   double seconds = -1.0;
   std::uint64_t judged = 0;
   std::string families;
-  for (const cullproof::testing::FamilyTally& t : cullproof::testing::verify_system(s)) {
+  for (const cullproof::testing::FamilyTally& t : cullproof::testing::verify_system(s, o)) {
     if (!t.broken) continue;
     if (seconds < 0.0) seconds = t.seconds_to_broken, judged = t.judged_to_broken;
     families += (families.empty() ? "" : " ") + t.family;

@@ -202,7 +202,7 @@ TEST(Protocol, CopiesThatOfferDifferentMethodsAreRefused) {
 }
 
 TEST(Protocol, AnotherVersionIsRefusedAtTheHandshake) {
-  expect_refused_handshake("bad-version", "handshake: protocol version 99, this cullproof speaks version 1");
+  expect_refused_handshake("bad-version", "handshake: protocol version 99, this cullproof speaks versions 1 to 2");
 }
 
 TEST(Protocol, AProgramThatCannotRunIsReported) {
@@ -286,7 +286,7 @@ TEST(ProtocolReader, AHandshakeOfTheWrongShapeIsRefusedNamingTheField) {
             "external program 'prog': handshake, methods[1]: \"name\" \"m\" is offered twice");
   // 2^32 + 1 is not version 1, however an int would hold it.
   EXPECT_EQ(handshake_error(R"({"protocol": 4294967297, "methods": [)" + ok + "}]}"),
-            "external program 'prog': handshake: protocol version 4294967297, this cullproof speaks version 1");
+            "external program 'prog': handshake: protocol version 4294967297, this cullproof speaks versions 1 to 2");
   EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": [1e999]}]})"),
             "external program 'prog': its handshake has a number beyond the range of a double (number overflow parsing "
             "'1e999'): {\"protocol\": 1, \"methods\": [{\"name\": \"m\", \"volumes\": [1e999]}]}");

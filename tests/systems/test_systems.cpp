@@ -13,6 +13,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -176,6 +178,33 @@ TEST(SceneFamilies, InstancesWorldIsTheTransformedLocalVolume) {
   EXPECT_GT(scaled, 50u) << "too few non-uniformly scaled instances";
 }
 
+// The truths decided down the hierarchy are the oracle's, object by object, on every family with
+// its moves, in fewer oracle decisions.
+TEST(SceneTruths, EqualTheOracleObjectByObject) {
+  std::uint64_t calls = 0, object_frames = 0;
+  for (const std::string& family : scenes::parse_families("all"))
+    for (std::uint64_t i = 0; i < 3; ++i) {
+      const scenes::SceneRun run = scenes::draw_run(family, 4, i, {400, 6});
+      std::vector<Volume> world;
+      std::map<std::uint32_t, std::size_t> at;
+      for (const SceneObject& o : run.scene.objects) at[o.id] = world.size(), world.push_back(o.world);
+      scenes::SceneTruths truths(world);
+      std::vector<Visibility> got;
+      for (const scenes::RunFrame& f : run.frames) {
+        for (const SceneObject& m : f.moved) world[at[m.id]] = m.world, truths.move(at[m.id], m.world);
+        truths.decide(f.view.frustum, got);
+        ASSERT_EQ(got.size(), world.size());
+        for (std::size_t k = 0; k < world.size(); ++k)
+          ASSERT_EQ(got[k], oracle::truth(f.view.frustum, world[k])) << family << " run " << i << " object " << k;
+        object_frames += world.size();
+      }
+      calls += truths.oracle_calls();
+    }
+  EXPECT_LT(calls, object_frames) << "the hierarchy decided nothing in bulk";
+  RecordProperty("oracle_calls", std::to_string(calls));
+  RecordProperty("object_frames", std::to_string(object_frames));
+}
+
 // ---- faults
 
 namespace {
@@ -230,16 +259,87 @@ TEST(SystemFaults, VisibleSetsThatAreNotOnesAreNamed) {
             std::string::npos);
 }
 
+// ---- shrinking and records
+
+namespace {
+
+// Shrunk runs are recorded here, not in the source tree.
+cullproof::testing::SystemOptions in_temp() {
+  cullproof::testing::SystemOptions o;
+  o.corpus = std::filesystem::path(::testing::TempDir()) / "cullproof-systems-corpus";
+  return o;
+}
+
+// A flat loop over the objects' boxes that forgets the near plane.
+System without_near_plane() {
+  return make_system(
+      answering("flat-without-near"), [](const Scene& s) { return s; },
+      [](Scene& s, const std::vector<SceneObject>& moved) {
+        for (const SceneObject& m : moved)
+          for (SceneObject& o : s.objects)
+            if (o.id == m.id) o = m;
+      },
+      [](Scene& s, const CullView& v, VisibleSet& out) {
+        Frustum f = v.frustum.planes;
+        f[kNear] = Plane{{0, 0, 0}, 1};  // the bug: holds everywhere
+        for (const SceneObject& o : s.objects)
+          if (const Visibility r = pn_vertex(f, enclosing_box(o.world)); r != Visibility::outside)
+            out.indices.push_back(o.id), out.verdicts.push_back(r);
+      });
+}
+
+}  // namespace
+
+TEST(SystemRecords, AFailingRunShrinksAndItsRecordReplays) {
+  const System bug = without_near_plane();
+  const auto tallies = cullproof::testing::verify_system(bug, in_temp());
+  const cullproof::testing::FamilyTally* t = nullptr;
+  for (const auto& x : tallies)
+    if (x.broken && !t) t = &x;
+  ASSERT_NE(t, nullptr) << "the missing near plane went unnoticed";
+  scenes::ShrinkStats st;
+  const scenes::SceneRun small = scenes::shrink_run(bug, *t->broken_run, *t->broken, 300, &st);
+  EXPECT_LT(st.objects_after, st.objects_before);
+  EXPECT_LE(st.frames_after, t->broken->frame + 1);
+  EXPECT_LE(small.scene.objects.size(), 3u) << "one object behind the camera suffices";
+  const scenes::RunJudgement j = scenes::judge_run(bug, small);
+  ASSERT_TRUE(j.first_broken);
+  RecordProperty("shrink_tries", st.tries);
+
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "cullproof-system-records";
+  std::filesystem::remove_all(dir);
+  const std::filesystem::path file = scenes::write_system_record(dir, bug, small, *j.first_broken, "rerun");
+  EXPECT_EQ(file.parent_path(), dir / "flat-without-near" / small.family);
+  EXPECT_EQ(scenes::write_system_record(dir, bug, small, *j.first_broken, "rerun"), file) << "the same failure, the same file";
+  const scenes::SystemRecord back = scenes::read_system_record(file);
+  EXPECT_EQ(back.system, "flat-without-near");
+  EXPECT_EQ(scenes::to_json(back.run), scenes::to_json(small)) << "the run reads back bit for bit";
+  EXPECT_EQ(back.failure.frame, j.first_broken->frame);
+  EXPECT_EQ(back.failure.id, j.first_broken->id);
+  const scenes::RunJudgement again = scenes::judge_run(bug, back.run);
+  EXPECT_EQ(again.claim_broken, j.claim_broken);
+  // A field that is wrong is named.
+  nlohmann::json rec = back.record;
+  rec["run"]["objects"][0]["world"] = {{"sphere", {{"center", {0, 0}}, {"radius", 1}}}};
+  std::ofstream(dir / "bad.json") << rec.dump();
+  try {
+    scenes::read_system_record(dir / "bad.json");
+    FAIL() << "a malformed volume was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'run.objects[0].world'"), std::string::npos) << e.what();
+  }
+}
+
 // ---- cullproof's own systems
 
 TEST(BuiltinSystems, HoldTheirClaimsOnEveryFamily) {
-  for (const System& s : builtin_systems()) EXPECT_TRUE(cullproof::testing::system_holds(s)) << s.name;
+  for (const System& s : builtin_systems()) EXPECT_TRUE(cullproof::testing::system_holds(s, in_temp())) << s.name;
 }
 
 // A system that returns nothing (every object outside) is refuted: the families show visible
 // objects.
 TEST(BuiltinSystems, AnEmptyVisibleSetIsRefuted) {
-  const ::testing::AssertionResult r = cullproof::testing::system_holds(fixed_answer("nothing-visible", {}));
+  const ::testing::AssertionResult r = cullproof::testing::system_holds(fixed_answer("nothing-visible", {}), in_temp());
   EXPECT_FALSE(r);
   EXPECT_NE(std::string(r.message()).find("false rejects"), std::string::npos) << r.message();
   EXPECT_NE(std::string(r.message()).find("reproduce: CULLPROOF_SEED=1 CULLPROOF_SCENE_FAMILY="), std::string::npos)

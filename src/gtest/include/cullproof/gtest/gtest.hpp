@@ -66,36 +66,32 @@ VerifyResult verify_methods(const std::vector<Method>& methods, const ClaimOptio
 //
 // system_holds draws runs of every scene family (cullproof/scenes/scenes.hpp), runs the system
 // over each (build, updates, a cull per frame) and judges every object of every frame exactly.
-// It fails with the first object-frame that breaks the claim: the run (family, index, seed, what
-// moves), the frame and what the camera did, the object, the verdict and the truth, the case as a
-// case-format line with its numbers in hex, and how to rerun exactly that run:
+// It shrinks the first run that breaks the claim (fewer objects, fewer frames, fewer moves: each try
+// rebuilds the system), records the shrunk run in the corpus folder, and fails with it: the run
+// (family, index, seed, what moves, its size before and after shrinking), the frame and what the
+// camera did, the object, the verdict and the truth, the case as a case-format line with its
+// numbers in hex, the record's file, and how to rerun exactly the run it was found on:
 //   CULLPROOF_SEED=S  CULLPROOF_SCENE_FAMILY=NAME  CULLPROOF_SCENE_INDEX=I  CULLPROOF_RUNS=N
-//   CULLPROOF_OBJECTS=N  CULLPROOF_FRAMES=N
+//   CULLPROOF_OBJECTS=N  CULLPROOF_FRAMES=N  CULLPROOF_CORPUS=DIR
 
 struct SystemOptions {
   std::uint64_t runs = 6;  ///< per family
   std::uint64_t seed = 1;
   scenes::RunSize size;    ///< objects and frames per run
   std::vector<std::string> families = scenes::parse_families("all");
+  /// Where the shrunk failing run is recorded (scenes::write_system_record). Unset: a folder
+  /// "cullproof-corpus/systems" in the working directory.
+  std::optional<std::filesystem::path> corpus;
+  int shrink_budget = 300;  ///< system runs per shrink
 };
 
 /// Whether `system` holds its claim on every object-frame of the runs. A fault (a phase threw, a
 /// visible set that is not one) fails with the fault.
 ::testing::AssertionResult system_holds(const System& system, const SystemOptions& options = {});
 
-/// The tally behind system_holds, per family, for a test that wants the numbers.
-struct FamilyTally {
-  std::string family;
-  std::uint64_t runs = 0, judged = 0, claim_broken = 0;
-  std::uint64_t by_class[5] = {};
-  /// The first run whose claim broke, and what broke it.
-  std::optional<scenes::SceneRun> broken_run;
-  std::optional<scenes::Finding> broken;
-  /// From the start of verify_system to the end of that run (families in order, runs in order):
-  /// seconds and object-frames judged, the cost of finding the failure.
-  double seconds_to_broken = 0.0;
-  std::uint64_t judged_to_broken = 0;
-};
+/// The tally behind system_holds, per family, for a test that wants the numbers (the options with
+/// the environment overrides applied).
+using FamilyTally = scenes::FamilyTally;
 std::vector<FamilyTally> verify_system(const System& system, const SystemOptions& options = {});
 
 }  // namespace cullproof::testing

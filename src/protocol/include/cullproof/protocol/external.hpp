@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cullproof/methods/methods.hpp"
+#include "cullproof/systems/system.hpp"
 
 #include <chrono>
 #include <cstddef>
@@ -12,8 +13,8 @@
 
 namespace cullproof {
 
-/// The protocol version this cullproof speaks.
-constexpr int kProtocolVersion = 1;
+/// The protocol version this cullproof speaks (version 1, methods only, is still read).
+constexpr int kProtocolVersion = 2;
 
 // Limits on what the program writes. A line past one is the program's fault, reported like the
 // others (naming the program, the message awaited and the limit) as soon as the line passes it:
@@ -49,5 +50,14 @@ struct ExternalOptions {
 /// into a MethodFault, with the case saved). Throws std::runtime_error when the program cannot be
 /// started or its handshake is not one this version reads.
 std::vector<Method> external_methods(const ExternalOptions& options);
+
+/// Starts the program (one copy: a system's state lives in it), reads its handshake (version 2)
+/// and returns its culling systems. Building a system sends the scene (the objects of the kinds
+/// it declared) and waits for it to be built; a later build of the same system replaces the
+/// program's scene (cullproof runs one scene at a time per system). update() and cull() send one
+/// message each and wait for the answer. A fault (exit, hang, an answer the protocol does not
+/// allow) makes the phase throw std::runtime_error naming the program, the message and what was
+/// wrong; the judge turns it into a SystemFault.
+std::vector<System> external_systems(const ExternalOptions& options);
 
 }  // namespace cullproof

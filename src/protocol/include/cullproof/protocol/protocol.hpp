@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cullproof/methods/methods.hpp"
+#include "cullproof/systems/system.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -28,6 +29,29 @@ struct OfferedMethod {
 /// JSON or nests past kMaxProtocolDepth, another protocol version, no methods, a method without a
 /// name or named twice, a field of the wrong type or outside its list of values.
 std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::string& program);
+
+/// The culling systems a version-2 handshake offers ("systems": name, description, source,
+/// claim, tolerance, volumes, three_way, touching, origin; no other field); none for version 1.
+/// Throws std::runtime_error as parse_handshake does, naming the field (an unknown one included).
+std::vector<SystemInfo> parse_offered_systems(std::string_view line, const std::string& program);
+
+/// Reads the answer to a scene or update message, {"frame": n, "<key>": true}; `what` names the
+/// message. Throws std::runtime_error "answered <what> ..." as parse_answer does.
+void parse_acknowledgement(std::string_view line, std::uint64_t frame, const char* key, const std::string& what);
+
+/// A program's answer to a cull message: the visible set and its own time.
+struct VisibleReply {
+  VisibleSet set;
+  std::optional<double> ns;
+};
+/// Reads the answer to cull message `frame` for a system given `objects` objects:
+/// {"frame": n, "visible": [ids], "verdicts": ["inside" | "intersecting", ...], "ns": x}, the
+/// verdicts one per id (required of a three-way system, optional of a two-way one, which may
+/// not answer "inside"). Throws std::runtime_error "answered <what> ..." for more ids than
+/// objects, an id that is not an integer from 0 to 2^32 - 1, verdicts of another count or value,
+/// and what parse_answer refuses. Whether the ids are the scene's, once each, the judge checks.
+VisibleReply parse_visible(std::string_view line, std::uint64_t frame, std::size_t objects, bool three_way,
+                           const std::string& what);
 
 /// A program's answer to one frame.
 struct Reply {

@@ -18,11 +18,14 @@
 // rounding allowance only where the case rounds.
 #pragma once
 
+#include "cullproof/core/certified.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/judge/judge.hpp"
 #include "cullproof/systems/system.hpp"
 
 #include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -77,12 +80,16 @@ inline constexpr std::size_t kMaxObjects = 1000000;
 /// two-way system). what() names the system, the phase, the frame and the problem.
 class SystemFault : public std::runtime_error {
  public:
-  SystemFault(const std::string& what, std::size_t frame) : std::runtime_error(what), frame_(frame) {}
+  SystemFault(const std::string& what, std::size_t frame, std::shared_ptr<const SceneRun> run = nullptr)
+      : std::runtime_error(what), frame_(frame), run_(std::move(run)) {}
   /// The frame the fault happened in (0 for build).
   std::size_t frame() const noexcept { return frame_; }
+  /// The run it happened on, when verify_system drew it (to save and rerun).
+  const std::shared_ptr<const SceneRun>& run() const noexcept { return run_; }
 
  private:
   std::size_t frame_;
+  std::shared_ptr<const SceneRun> run_;
 };
 
 /// One object on one frame that the system got wrong.
@@ -99,22 +106,127 @@ struct Finding {
 /// What a system did on one run.
 struct RunJudgement {
   std::uint64_t judged = 0;  ///< object-frames
+  std::uint64_t truth_outside = 0;  ///< object-frames whose truth is outside (the false-intersect rate's denominator)
   std::uint64_t by_class[5] = {};  ///< per ErrorClass
   std::uint64_t claim_broken = 0;
   /// The first object-frame that breaks the claim, else the first error of any class.
   std::optional<Finding> first_broken, first_error;
   double cull_seconds = 0.0;  ///< build, updates and culls
   double judge_seconds = 0.0;  ///< the exact truth of every object-frame
+  std::uint64_t oracle_calls = 0;  ///< the object-frames the oracle decided (the others were proved certified)
+};
+
+/// The exact truth of every object of a scene against a frustum, decided down a hierarchy: a BVH
+/// over the objects' enclosing boxes (build_bvh, leaves of 4; refit_bvh after objects move). A
+/// node whose box the certified n/p-vertex test proves inside the frustum holds only inside
+/// objects, one it proves outside only outside ones (each object lies in its enclosing box, the
+/// box in its node's: closed sets); the objects of the other leaves are proved by the certified
+/// test of their kind, and those it leaves undecided (it answers `intersecting`: near the
+/// boundary, or truly intersecting) are decided by the exact oracle. The certified tests never
+/// give a false reject or a false inside, rounding and the plane extraction from the matrix
+/// included (docs/certified.md), so `outside` and `inside` from them are proofs. The same truths
+/// as oracle::truth object by object; the oracle decides only near the boundary.
+class SceneTruths {
+ public:
+  explicit SceneTruths(std::vector<Volume> world);
+  /// Object `position` now has the volume `v` (the hierarchy is refitted before the next decide).
+  void move(std::size_t position, const Volume& v);
+  /// truth[i] for object i.
+  void decide(const CaseFrustum& f, std::vector<Visibility>& truth);
+  const std::vector<Volume>& world() const noexcept { return world_; }
+  /// Decisions made so far: by the oracle, and certified tests of node boxes and objects.
+  std::uint64_t oracle_calls() const noexcept { return calls_; }
+  std::uint64_t certified_tests() const noexcept { return certified_; }
+
+ private:
+  void visit(const CertifiedFrustum& cf, const CaseFrustum& f, std::uint32_t node, std::vector<Visibility>& truth);
+  void fill(std::uint32_t node, Visibility v, std::vector<Visibility>& truth) const;
+  std::vector<Volume> world_;
+  std::vector<Aabb> boxes_;
+  Bvh bvh_;
+  bool stale_ = false;
+  std::uint64_t calls_ = 0, certified_ = 0;
 };
 
 /// Runs `system` over `run` (build, then per frame update and cull) and judges every object of
-/// every frame. Throws SystemFault on a fault.
+/// every frame (SceneTruths). Throws SystemFault on a fault.
 RunJudgement judge_run(const System& system, const SceneRun& run);
 
 /// A system's visible set as verdicts by scene position (outside where not listed), checked as
 /// SystemFault describes; `position` maps ids to scene positions.
 void verdicts_by_position(const SystemInfo& info, const std::unordered_map<std::uint32_t, std::size_t>& position,
                           const VisibleSet& set, std::vector<Visibility>& out);
+
+/// Which runs a system verification draws: `runs` of every family in `families` (or the one run
+/// `only_index` of each), each of `size`.
+struct VerifyRuns {
+  std::uint64_t runs = 6;
+  std::uint64_t seed = 1;
+  RunSize size;
+  std::vector<std::string> families = parse_families("all");
+  std::optional<std::uint64_t> only_index;
+};
+
+/// A system over one family's runs.
+struct FamilyTally {
+  std::string family;
+  std::uint64_t runs = 0, judged = 0, truth_outside = 0, claim_broken = 0;
+  std::uint64_t by_class[5] = {};  ///< per ErrorClass
+  double cull_seconds = 0.0, judge_seconds = 0.0;
+  /// The first run whose claim broke, and what broke it.
+  std::optional<SceneRun> broken_run;
+  std::optional<Finding> broken;
+  /// From the start of verify_system to the end of that run (families in order, runs in order):
+  /// seconds and object-frames judged, the cost of finding the failure.
+  double seconds_to_broken = 0.0;
+  std::uint64_t judged_to_broken = 0;
+};
+
+/// Draws the runs and judges `system` on each (judge_run), family by family; throws SystemFault
+/// on a fault.
+std::vector<FamilyTally> verify_system(const System& system, const VerifyRuns& runs);
+
+/// What shrink_run did.
+struct ShrinkStats {
+  int tries = 0;
+  std::size_t objects_before = 0, objects_after = 0, frames_before = 0, frames_after = 0, moves_before = 0,
+              moves_after = 0;
+  bool budget_spent = false;  ///< stopped by the budget, not because nothing smaller broke the claim
+};
+
+/// A smaller run on which `system` still breaks its claim, from `run` and its `failure`
+/// (judge_run's first_broken): the frames after the failing one dropped, earlier frames dropped
+/// (their moves folded into the scene or the next frame), objects removed in halving chunks then
+/// one by one, moves dropped (an object left standing). Each try rebuilds the system and runs it
+/// through every frame; at most `budget` tries. A try on which the system faults does not count as
+/// breaking the claim. The run returned breaks the claim (or is `run` itself when the system does
+/// not break it again: a system whose answers are not a function of its inputs).
+SceneRun shrink_run(const System& system, const SceneRun& run, const Finding& failure, int budget = 300,
+                    ShrinkStats* stats = nullptr);
+
+/// A run in JSON: the scene's objects (id, world and local volumes in the case format's forms,
+/// the transform as 16 numbers, column by column) and the frames (the frustum in the case format,
+/// view and projection matrices, eye, axes, whether perspective, the camera event, the moved
+/// objects); floats written as the shortest decimals that read back to them.
+nlohmann::json to_json(const SceneRun& run);
+/// Reads what to_json wrote; throws std::runtime_error naming `where` and the field that is wrong.
+SceneRun run_from_json(const nlohmann::json& j, const std::string& where);
+
+/// A system's failure as a corpus record: the system, its claim, the shrunk run, the frame and
+/// object judged, the verdict, the truth, the error class and distance, the run it was found on
+/// (family, seed, index, size) and how to reproduce it. Written atomically to
+/// `<dir>/<system>/<family>/<error class>-<hash of the record>.json`; returns the file.
+std::filesystem::path write_system_record(const std::filesystem::path& dir, const System& system, const SceneRun& run,
+                                          const Finding& failure, const std::string& reproduce);
+
+/// A system record read back: the run, the frame and object, and what was recorded.
+struct SystemRecord {
+  std::string system;
+  SceneRun run;
+  Finding failure;
+  nlohmann::json record;
+};
+SystemRecord read_system_record(const std::filesystem::path& file);
 
 /// A run's object-frame as a case of the case format (the frame's frustum, the object's world
 /// volume; id "<family>-<index>-f<frame>-o<id>"), for printing and for `cullproof classify`.

@@ -1,0 +1,174 @@
+// `cullproof systems`: culling systems over the scene families, every object of every frame judged
+// exactly (cullproof/scenes/scenes.hpp); a system whose claim breaks has its first failing run
+// shrunk and recorded under <corpus>/systems/.
+#include "commands.hpp"
+
+#include "cli_checks.hpp"
+#include "cullproof/io/files.hpp"
+#include "cullproof/scenes/scenes.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <iostream>
+#include <limits>
+
+namespace cullproof::app {
+
+namespace {
+
+constexpr std::uint64_t kMaxRuns = 1000000;     ///< runs per family
+constexpr std::uint64_t kMaxFrames = 100000;    ///< frames per run
+constexpr int kMaxShrink = 100000;              ///< system runs per shrink
+
+// The false-intersect rate as the campaign gives it: of the object-frames truly outside, in
+// percent, with its 95% Wilson interval.
+std::string rate(std::uint64_t k, std::uint64_t n) {
+  if (n == 0) return "-";
+  const auto [lo, hi] = wilson95(k, n);
+  return fmt::format("{:.2f} [{:.2f}, {:.2f}]", 100.0 * double(k) / double(n), 100.0 * lo, 100.0 * hi);
+}
+
+std::string per_object(double seconds, std::uint64_t n) { return n ? fmt::format("{:.0f}", seconds * 1e9 / double(n)) : "-"; }
+
+// A system's claim breaks the run when the system is the user's or cullproof's own.
+bool fails_run(const System& s) { return s.origin != Origin::published; }
+
+}  // namespace
+
+void add_systems(CLI::App& app, SystemsCommand& c, ExternalProgram& external) {
+  auto* cmd = c.cmd = app.add_subcommand(
+      "systems", "Run culling systems (a hierarchy, masks, caches, moving objects) over the scene families and judge "
+                 "every object of every frame against the oracle (docs/systems.md)");
+  cmd->add_option("--system", c.systems, "Built-in system (repeatable; default: all of them)");
+  cmd->add_option("--family", c.families, "Scene family or 'all' (repeatable; default: all)");
+  cmd->add_option("--runs", c.runs, "Runs per family")->capture_default_str()->check(cli::UnsignedRange(1, kMaxRuns));
+  cmd->add_option("--objects", c.objects, "Objects per scene")
+      ->capture_default_str()
+      ->check(cli::UnsignedRange(1, scenes::kMaxObjects));
+  cmd->add_option("--frames", c.frames, "Frames per run")->capture_default_str()->check(cli::UnsignedRange(1, kMaxFrames));
+  cmd->add_option("--seed", c.seed, "Seed")
+      ->capture_default_str()
+      ->check(cli::UnsignedRange(0, std::numeric_limits<std::uint64_t>::max()));
+  c.index_option = cmd->add_option("--index", c.index, "Only run I of each family (as a failure's reproduce line gives it)")
+                       ->check(cli::UnsignedRange(0, std::numeric_limits<std::uint64_t>::max()));
+  cmd->add_option("--shrink-budget", c.shrink_budget, "System runs per shrink of a failing run")
+      ->capture_default_str()
+      ->check(CLI::Range(0, kMaxShrink));
+  cmd->add_option("--json", c.json_file, "Write the results as JSON to FILE");
+  cmd->add_option("--corpus", c.corpus_dir, "Record shrunk failing runs under DIR/systems")->capture_default_str();
+  cmd->add_flag("--no-corpus", c.no_corpus, "Do not record failing runs");
+  cmd->add_option("--external", external.names,
+                  "Run system NAME of the program given after '--' (the process protocol, version 2, docs/protocol.md; "
+                  "repeatable, 'all': every system it offers); --system adds built-in ones beside it");
+  cmd->add_option("--external-timeout", external.timeout_ms, "Milliseconds to wait for each answer of the program")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 3600000));
+}
+
+int run_systems_command(const SystemsCommand& c, const ExternalProgram& external) {
+  std::vector<System> systems;
+  scenes::VerifyRuns runs;
+  try {
+    systems = external.systems(c.systems);
+    runs.families.clear();
+    for (const std::string& f : c.families.empty() ? std::vector<std::string>{"all"} : c.families)
+      for (const std::string& name : scenes::parse_families(f))
+        if (std::find(runs.families.begin(), runs.families.end(), name) == runs.families.end()) runs.families.push_back(name);
+  } catch (const std::exception& e) {
+    std::cerr << "cullproof systems: " << e.what() << "\n";
+    return 2;
+  }
+  runs.runs = c.runs, runs.seed = c.seed;
+  runs.size.objects = c.objects, runs.size.frames = c.frames;
+  if (c.index_option && c.index_option->count()) runs.only_index = c.index;
+
+  nlohmann::json out = {{"seed", runs.seed}, {"runs", runs.runs}, {"objects", runs.size.objects},
+                        {"frames", runs.size.frames}, {"systems", nlohmann::json::array()}};
+  std::vector<std::string> broken_lines;
+  bool failed = false;
+  for (const System& s : systems) {
+    std::vector<scenes::FamilyTally> tallies;
+    try {
+      tallies = scenes::verify_system(s, runs);
+    } catch (const scenes::SystemFault& f) {
+      std::cerr << "cullproof systems: FAULT: " << f.what() << "\n";
+      if (f.run() && !c.no_corpus) {
+        // The run it happened on, to rerun: a record without a finding.
+        const std::filesystem::path file = std::filesystem::path(c.corpus_dir) / "systems" / "faults" / s.name /
+                                           fmt::format("{}-{}.json", f.run()->family, f.run()->index);
+        write_file_atomic(file, nlohmann::json{{"system", s.name}, {"fault", f.what()}, {"frame", f.frame()},
+                                               {"run", scenes::to_json(*f.run())}}.dump(1) + "\n");
+        std::cerr << "cullproof systems: the run is saved in " << file.string() << "\n";
+      }
+      return 2;
+    }
+    fmt::print("{} ({}, claim {}, {})\n", s.name, to_string(s.origin), to_string(s.claim), s.description);
+    fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", "family", "runs", "object-frames",
+               "broken", "F.rej", "F.ins", "false-intersect % [95%]", "cull ns", "judge ns");
+    nlohmann::json js = {{"system", s.name}, {"claim", std::string(to_string(s.claim))}, {"origin", std::string(to_string(s.origin))},
+                         {"families", nlohmann::json::array()}};
+    std::uint64_t broken = 0;
+    const scenes::FamilyTally* first = nullptr;
+    for (const scenes::FamilyTally& t : tallies) {
+      const std::uint64_t fi = t.by_class[int(ErrorClass::false_intersect)];
+      fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", t.family, t.runs, t.judged, t.claim_broken,
+                 t.by_class[int(ErrorClass::false_reject)], t.by_class[int(ErrorClass::false_inside)], rate(fi, t.truth_outside),
+                 per_object(t.cull_seconds, t.judged), per_object(t.judge_seconds, t.judged));
+      js["families"].push_back({{"family", t.family},
+                                {"runs", t.runs},
+                                {"object_frames", t.judged},
+                                {"claim_broken", t.claim_broken},
+                                {"false_reject", t.by_class[int(ErrorClass::false_reject)]},
+                                {"false_inside", t.by_class[int(ErrorClass::false_inside)]},
+                                {"false_intersect", fi},
+                                {"truth_outside", t.truth_outside},
+                                {"under_inside", t.by_class[int(ErrorClass::under_inside)]},
+                                {"cull_seconds", t.cull_seconds},
+                                {"judge_seconds", t.judge_seconds}});
+      broken += t.claim_broken;
+      if (t.broken && !first) first = &t;
+    }
+    js["claim_broken"] = broken;
+    if (first) {
+      // A program's system is named with --external and the program after '--'.
+      const std::string which = s.program.empty() ? "--system " + s.name : "--external " + s.name;
+      const std::string again =
+          fmt::format("cullproof systems {} --family {} --index {} --seed {} --objects {} --frames {}{}", which,
+                      first->family, first->broken_run->index, runs.seed, runs.size.objects, runs.size.frames,
+                      s.program.empty() ? std::string() : " -- " + s.program);
+      std::string line = fmt::format("{} breaks its claim '{}' on {} object-frame(s); first: {} run {}, frame {}, object {} "
+                                     "({} where the truth is {}); reproduce: {}",
+                                     s.name, to_string(s.claim), broken, first->family, first->broken_run->index,
+                                     first->broken->frame, first->broken->id, to_string(first->broken->verdict),
+                                     to_string(first->broken->truth), again);
+      if (!c.no_corpus) {
+        scenes::ShrinkStats st;
+        const scenes::SceneRun small = scenes::shrink_run(s, *first->broken_run, *first->broken, c.shrink_budget, &st);
+        scenes::Finding f = *first->broken;
+        try {
+          if (const auto j = scenes::judge_run(s, small); j.first_broken) f = *j.first_broken;
+        } catch (const scenes::SystemFault&) {
+        }
+        const auto file = scenes::write_system_record(std::filesystem::path(c.corpus_dir) / "systems", s, small, f, again);
+        line += fmt::format("\n  shrunk to {} object(s), {} frame(s) in {} system runs: {}", small.scene.objects.size(),
+                            small.frames.size(), st.tries, file.string());
+        js["record"] = file.string();
+      }
+      broken_lines.push_back(line);
+      failed = failed || fails_run(s);
+    }
+    out["systems"].push_back(std::move(js));
+    fmt::print("\n");
+  }
+  if (broken_lines.empty()) {
+    fmt::print("every system held its claim\n");
+  } else {
+    for (const std::string& l : broken_lines) fmt::print("{}\n", l);
+  }
+  if (!c.json_file.empty()) write_file_atomic(c.json_file, out.dump(1) + "\n");
+  return failed ? 1 : 0;
+}
+
+}  // namespace cullproof::app

@@ -1,0 +1,87 @@
+// The exact truth of a scene's objects, decided down a hierarchy of their enclosing boxes with
+// certified proofs, and by the oracle where no proof decides (cullproof/scenes/scenes.hpp,
+// SceneTruths).
+#include "cullproof/scenes/scenes.hpp"
+
+#include "cullproof/core/certified.hpp"
+#include "cullproof/oracle/oracle.hpp"
+
+#include <cmath>
+
+namespace cullproof::scenes {
+
+namespace {
+
+bool finite(const Aabb& b) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(b.min[k]) || !std::isfinite(b.max[k])) return false;
+  return true;
+}
+
+// The certified test of the volume's kind: `outside` and `inside` are proofs (the certified tests
+// never give a false reject or a false inside, rounding and the plane extraction included:
+// docs/certified.md); `intersecting` decides nothing.
+Visibility certified(const CertifiedFrustum& f, const Volume& v) {
+  if (const auto* p = std::get_if<Point>(&v)) return certified_point(f, *p);
+  if (const auto* s = std::get_if<Sphere>(&v)) return certified_sphere(f, *s);
+  if (const auto* b = std::get_if<Aabb>(&v)) return certified_pn_vertex(f, *b);
+  return certified_obb_pn_vertex(f, std::get<Obb>(v));
+}
+
+}  // namespace
+
+SceneTruths::SceneTruths(std::vector<Volume> world) : world_(std::move(world)) {
+  boxes_.reserve(world_.size());
+  for (const Volume& v : world_) boxes_.push_back(enclosing_box(v));
+  bvh_ = build_bvh(boxes_, 4);
+}
+
+void SceneTruths::move(std::size_t position, const Volume& v) {
+  world_.at(position) = v;
+  boxes_[position] = enclosing_box(v);
+  stale_ = true;
+}
+
+void SceneTruths::fill(std::uint32_t node, Visibility v, std::vector<Visibility>& truth) const {
+  const auto [first, last] = bvh_.subtree_prims[node];
+  for (std::uint32_t k = first; k < last; ++k) truth[bvh_.prim_order[k]] = v;
+}
+
+void SceneTruths::visit(const CertifiedFrustum& cf, const CaseFrustum& f, std::uint32_t node, std::vector<Visibility>& truth) {
+  const BvhNode& n = bvh_.nodes[node];
+  // A box past float's range (an object reaching past FLT_MAX) decides nothing: its children or
+  // objects are decided instead.
+  if (finite(n.box)) {
+    ++certified_;
+    const Visibility v = certified_pn_vertex(cf, n.box);
+    if (v != Visibility::intersecting) {
+      fill(node, v, truth);
+      return;
+    }
+  }
+  if (n.is_leaf()) {
+    for (std::uint32_t k = n.right_or_first; k < n.right_or_first + n.count; ++k) {
+      const std::uint32_t i = bvh_.prim_order[k];
+      ++certified_;
+      const Visibility v = certified(cf, world_[i]);
+      if (v != Visibility::intersecting) {
+        truth[i] = v;
+        continue;
+      }
+      ++calls_;
+      truth[i] = oracle::truth(f, world_[i]);
+    }
+    return;
+  }
+  visit(cf, f, node + 1, truth);
+  visit(cf, f, n.right_or_first, truth);
+}
+
+void SceneTruths::decide(const CaseFrustum& f, std::vector<Visibility>& truth) {
+  truth.assign(world_.size(), Visibility::outside);
+  if (world_.empty()) return;
+  if (stale_) refit_bvh(bvh_, boxes_), stale_ = false;
+  visit(certify(f), f, 0, truth);
+}
+
+}  // namespace cullproof::scenes

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# `cullproof systems` with a culling system behind the process protocol (the reference adapter):
+#   holds    the adapter holds its claim: exit 0, "every system held its claim";
+#   refuted  its planted bug (drop-near): exit 1, the shrunk run recorded, a reproduce line that
+#            names the program;
+#   fault    it crashes on the scene message: exit 2, the fault named, the run saved.
+set -uo pipefail
+cullproof=$1
+adapter=$2
+mode=$3
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+short=(--runs 2 --objects 100 --frames 6 --external reference-flat --corpus "$out")
+expect() {  # expect STATUS PATTERN: the run's exit status and a line of its output
+  if [ "$status" -ne "$1" ]; then echo "cli_systems: exit status $status, expected $1" >&2; exit 1; fi
+  if ! grep -Eq -- "$2" <<< "$log"; then echo "cli_systems: no line matching: $2" >&2; exit 1; fi
+}
+case "$mode" in
+  holds)
+    log=$("$cullproof" systems "${short[@]}" -- "$adapter" 2>&1); status=$?
+    echo "$log"
+    expect 0 "every system held its claim"
+    ;;
+  refuted)
+    log=$("$cullproof" systems "${short[@]}" --family along-planes -- "$adapter" drop-near 2>&1); status=$?
+    echo "$log"
+    expect 1 "reproduce: cullproof systems --external reference-flat --family along-planes --index [0-9]+ .* -- .*cullproof_reference_system_adapter drop-near"
+    ls "$out"/systems/reference-flat/along-planes/*.json > /dev/null || { echo "cli_systems: no record" >&2; exit 1; }
+    ;;
+  fault)
+    log=$("$cullproof" systems "${short[@]}" --family clusters -- "$adapter" crash-on-scene 2>&1); status=$?
+    echo "$log"
+    expect 2 "FAULT: system 'reference-flat' threw in build on frame 0: .*before answering scene message 1"
+    ls "$out"/systems/faults/reference-flat/clusters-0.json > /dev/null || { echo "cli_systems: the run was not saved" >&2; exit 1; }
+    ;;
+  *)
+    echo "cli_systems: unknown mode '$mode' (holds, refuted, fault)" >&2
+    exit 2
+    ;;
+esac
