@@ -120,7 +120,7 @@ int run_report_command(const ReportCommand& c);
 
 #ifdef CULLPROOF_HAVE_SCENES
 /// `systems [--system NAME ...] [--family F ...] [--runs N] [--objects N] [--frames N] [--seed S]
-/// [--index I] [--json FILE] [--corpus DIR | --no-corpus]`.
+/// [--index I] [--json FILE] [--corpus DIR | --no-corpus] [--replay]`.
 struct SystemsCommand {
   CLI::App* cmd = nullptr;
   CLI::Option* index_option = nullptr;
@@ -128,13 +128,22 @@ struct SystemsCommand {
   std::uint64_t runs = 6, objects = 200, frames = 12, seed = 1, index = 0;
   int shrink_budget = 300;
   std::string json_file, corpus_dir = "corpus";
-  bool no_corpus = false;
+  bool no_corpus = false, replay = false;
 };
 void add_systems(CLI::App& app, SystemsCommand& c, ExternalProgram& external);
 /// Per system a table per family; 1 when the claim of an own or user system broke (its first
 /// failing run shrunk and recorded), 2 for bad input or a fault (the run it happened on recorded
 /// under <corpus>/systems/faults/).
 int run_systems_command(const SystemsCommand& c, const ExternalProgram& external);
+
+/// The system records under <dir>/systems/ (the shrunk failing runs; faults/ aside) replayed with
+/// the systems of `systems` by name, one line each ("still failing" where the recorded frame and
+/// object break the claim again, "changed" where another does, "fixed", "not replayed" for a
+/// system not among `systems`). Returns the number of records of known systems that no longer fail
+/// as recorded; `records` gets the number read.
+std::size_t replay_system_records(const std::string& dir, const std::vector<System>& systems, std::size_t& records);
+/// Prints the system record whose file name (without .json) is `id`; false when there is none.
+bool show_system_record(const std::string& dir, const std::string& id);
 #endif
 
 #ifdef CULLPROOF_HAVE_SIM

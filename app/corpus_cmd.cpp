@@ -122,6 +122,9 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
       std::cout << "witness: " << oracle::to_json(t.witness).dump() << "\n";
       return 0;
     }
+#ifdef CULLPROOF_HAVE_SCENES
+    if (show_system_record(dir, id)) return 0;
+#endif
     std::cerr << "cullproof corpus show: no case with id '" << id << "' under " << dir << "\n";
     return 2;
   }
@@ -170,8 +173,13 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
   }
   std::printf("%zu cases: %zu still failing, %zu fixed, %zu changed, %zu with regressions, %zu truth changed\n",
               entries.size(), still, fixed, changed, regressed, truth_changed);
-  if (strict && still != entries.size()) {
-    std::printf("FAILED: %zu case(s) no longer fail as recorded (--strict)\n", entries.size() - still);
+  std::size_t systems_not_failing = 0;
+#ifdef CULLPROOF_HAVE_SCENES
+  std::size_t system_records = 0;
+  systems_not_failing = replay_system_records(dir, builtin_systems(), system_records);
+#endif
+  if (strict && (still != entries.size() || systems_not_failing)) {
+    std::printf("FAILED: %zu case(s) no longer fail as recorded (--strict)\n", entries.size() - still + systems_not_failing);
     return 1;
   }
   return (truth_changed || regressed) ? 1 : 0;

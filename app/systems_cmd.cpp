@@ -4,6 +4,7 @@
 #include "commands.hpp"
 
 #include "cli_checks.hpp"
+#include "cullproof/io/case_io.hpp"
 #include "cullproof/io/files.hpp"
 #include "cullproof/scenes/scenes.hpp"
 
@@ -59,6 +60,8 @@ void add_systems(CLI::App& app, SystemsCommand& c, ExternalProgram& external) {
   cmd->add_option("--json", c.json_file, "Write the results as JSON to FILE");
   cmd->add_option("--corpus", c.corpus_dir, "Record shrunk failing runs under DIR/systems")->capture_default_str();
   cmd->add_flag("--no-corpus", c.no_corpus, "Do not record failing runs");
+  cmd->add_flag("--replay", c.replay, "Replay the records under DIR/systems (--corpus) with the systems named instead "
+                                      "of drawing runs");
   cmd->add_option("--external", external.names,
                   "Run system NAME of the program given after '--' (the process protocol, version 2, docs/protocol.md; "
                   "repeatable, 'all': every system it offers); --system adds built-in ones beside it");
@@ -66,6 +69,80 @@ void add_systems(CLI::App& app, SystemsCommand& c, ExternalProgram& external) {
       ->capture_default_str()
       ->check(CLI::Range(1, 3600000));
 }
+
+namespace {
+
+// Saves the run a fault happened on (a record without a finding) and says where.
+void save_fault(const SystemsCommand& c, const System& s, const scenes::SystemFault& f) {
+  std::cerr << "cullproof systems: FAULT: " << f.what() << "\n";
+  if (!f.run() || c.no_corpus) return;
+  const std::filesystem::path file = std::filesystem::path(c.corpus_dir) / "systems" / "faults" / s.name /
+                                     fmt::format("{}-{}.json", f.run()->family, f.run()->index);
+  write_file_atomic(file, nlohmann::json{{"system", s.name}, {"fault", f.what()}, {"frame", f.frame()},
+                                         {"run", scenes::to_json(*f.run())}}.dump(1) + "\n");
+  std::cerr << "cullproof systems: the run is saved in " << file.string() << "\n";
+}
+
+// The system's table, a line per family, and the same in JSON.
+nlohmann::json print_tallies(const System& s, const std::vector<scenes::FamilyTally>& tallies) {
+  fmt::print("{} ({}, claim {}, {})\n", s.name, to_string(s.origin), to_string(s.claim), s.description);
+  fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", "family", "runs", "object-frames", "broken",
+             "F.rej", "F.ins", "false-intersect % [95%]", "cull ns", "judge ns");
+  nlohmann::json js = {{"system", s.name}, {"claim", std::string(to_string(s.claim))}, {"origin", std::string(to_string(s.origin))},
+                       {"families", nlohmann::json::array()}};
+  std::uint64_t broken = 0;
+  for (const scenes::FamilyTally& t : tallies) {
+    const std::uint64_t fi = t.by_class[int(ErrorClass::false_intersect)];
+    fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", t.family, t.runs, t.judged, t.claim_broken,
+               t.by_class[int(ErrorClass::false_reject)], t.by_class[int(ErrorClass::false_inside)], rate(fi, t.truth_outside),
+               per_object(t.cull_seconds, t.judged), per_object(t.judge_seconds, t.judged));
+    js["families"].push_back({{"family", t.family},
+                              {"runs", t.runs},
+                              {"object_frames", t.judged},
+                              {"claim_broken", t.claim_broken},
+                              {"false_reject", t.by_class[int(ErrorClass::false_reject)]},
+                              {"false_inside", t.by_class[int(ErrorClass::false_inside)]},
+                              {"false_intersect", fi},
+                              {"truth_outside", t.truth_outside},
+                              {"under_inside", t.by_class[int(ErrorClass::under_inside)]},
+                              {"cull_seconds", t.cull_seconds},
+                              {"judge_seconds", t.judge_seconds}});
+    broken += t.claim_broken;
+  }
+  js["claim_broken"] = broken;
+  fmt::print("\n");
+  return js;
+}
+
+// The line that says where the claim broke and how to rerun it; the run shrunk and recorded
+// (its file in js["record"]) unless --no-corpus.
+std::string report_failure(const SystemsCommand& c, const System& s, const scenes::VerifyRuns& runs,
+                           const scenes::FamilyTally& first, nlohmann::json& js) {
+  // A program's system is named with --external and the program after '--'.
+  const std::string which = s.program.empty() ? "--system " + s.name : "--external " + s.name;
+  const std::string again = fmt::format("cullproof systems {} --family {} --index {} --seed {} --objects {} --frames {}{}",
+                                        which, first.family, first.broken_run->index, runs.seed, runs.size.objects,
+                                        runs.size.frames, s.program.empty() ? std::string() : " -- " + s.program);
+  std::string line = fmt::format("{} breaks its claim '{}' on {} object-frame(s); first: {} run {}, frame {}, object {} "
+                                 "({} where the truth is {}); reproduce: {}",
+                                 s.name, to_string(s.claim), js["claim_broken"].get<std::uint64_t>(), first.family,
+                                 first.broken_run->index, first.broken->frame, first.broken->id,
+                                 to_string(first.broken->verdict), to_string(first.broken->truth), again);
+  if (c.no_corpus) return line;
+  scenes::ShrinkStats st;
+  const scenes::SceneRun small = scenes::shrink_run(s, *first.broken_run, *first.broken, c.shrink_budget, &st);
+  scenes::Finding f = *first.broken;
+  try {
+    if (const auto j = scenes::judge_run(s, small); j.first_broken) f = *j.first_broken;
+  } catch (const scenes::SystemFault&) {
+  }
+  const auto file = scenes::write_system_record(std::filesystem::path(c.corpus_dir) / "systems", s, small, f, again);
+  js["record"] = file.string();
+  return line + fmt::format("\n  shrunk to {} object(s), {} frame(s) in {} system runs: {}", small.scene.objects.size(),
+                            small.frames.size(), st.tries, file.string());
+}
+
+}  // namespace
 
 int run_systems_command(const SystemsCommand& c, const ExternalProgram& external) {
   std::vector<System> systems;
@@ -80,6 +157,12 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
     std::cerr << "cullproof systems: " << e.what() << "\n";
     return 2;
   }
+  if (c.replay) {
+    std::size_t records = 0;
+    const std::size_t bad = replay_system_records(c.corpus_dir, systems, records);
+    if (records == 0) fmt::print("no system records under {}/systems\n", c.corpus_dir);
+    return bad ? 1 : 0;
+  }
   runs.runs = c.runs, runs.seed = c.seed;
   runs.size.objects = c.objects, runs.size.frames = c.frames;
   if (c.index_option && c.index_option->count()) runs.only_index = c.index;
@@ -93,82 +176,85 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
     try {
       tallies = scenes::verify_system(s, runs);
     } catch (const scenes::SystemFault& f) {
-      std::cerr << "cullproof systems: FAULT: " << f.what() << "\n";
-      if (f.run() && !c.no_corpus) {
-        // The run it happened on, to rerun: a record without a finding.
-        const std::filesystem::path file = std::filesystem::path(c.corpus_dir) / "systems" / "faults" / s.name /
-                                           fmt::format("{}-{}.json", f.run()->family, f.run()->index);
-        write_file_atomic(file, nlohmann::json{{"system", s.name}, {"fault", f.what()}, {"frame", f.frame()},
-                                               {"run", scenes::to_json(*f.run())}}.dump(1) + "\n");
-        std::cerr << "cullproof systems: the run is saved in " << file.string() << "\n";
-      }
+      save_fault(c, s, f);
       return 2;
     }
-    fmt::print("{} ({}, claim {}, {})\n", s.name, to_string(s.origin), to_string(s.claim), s.description);
-    fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", "family", "runs", "object-frames",
-               "broken", "F.rej", "F.ins", "false-intersect % [95%]", "cull ns", "judge ns");
-    nlohmann::json js = {{"system", s.name}, {"claim", std::string(to_string(s.claim))}, {"origin", std::string(to_string(s.origin))},
-                         {"families", nlohmann::json::array()}};
-    std::uint64_t broken = 0;
-    const scenes::FamilyTally* first = nullptr;
-    for (const scenes::FamilyTally& t : tallies) {
-      const std::uint64_t fi = t.by_class[int(ErrorClass::false_intersect)];
-      fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", t.family, t.runs, t.judged, t.claim_broken,
-                 t.by_class[int(ErrorClass::false_reject)], t.by_class[int(ErrorClass::false_inside)], rate(fi, t.truth_outside),
-                 per_object(t.cull_seconds, t.judged), per_object(t.judge_seconds, t.judged));
-      js["families"].push_back({{"family", t.family},
-                                {"runs", t.runs},
-                                {"object_frames", t.judged},
-                                {"claim_broken", t.claim_broken},
-                                {"false_reject", t.by_class[int(ErrorClass::false_reject)]},
-                                {"false_inside", t.by_class[int(ErrorClass::false_inside)]},
-                                {"false_intersect", fi},
-                                {"truth_outside", t.truth_outside},
-                                {"under_inside", t.by_class[int(ErrorClass::under_inside)]},
-                                {"cull_seconds", t.cull_seconds},
-                                {"judge_seconds", t.judge_seconds}});
-      broken += t.claim_broken;
-      if (t.broken && !first) first = &t;
-    }
-    js["claim_broken"] = broken;
-    if (first) {
-      // A program's system is named with --external and the program after '--'.
-      const std::string which = s.program.empty() ? "--system " + s.name : "--external " + s.name;
-      const std::string again =
-          fmt::format("cullproof systems {} --family {} --index {} --seed {} --objects {} --frames {}{}", which,
-                      first->family, first->broken_run->index, runs.seed, runs.size.objects, runs.size.frames,
-                      s.program.empty() ? std::string() : " -- " + s.program);
-      std::string line = fmt::format("{} breaks its claim '{}' on {} object-frame(s); first: {} run {}, frame {}, object {} "
-                                     "({} where the truth is {}); reproduce: {}",
-                                     s.name, to_string(s.claim), broken, first->family, first->broken_run->index,
-                                     first->broken->frame, first->broken->id, to_string(first->broken->verdict),
-                                     to_string(first->broken->truth), again);
-      if (!c.no_corpus) {
-        scenes::ShrinkStats st;
-        const scenes::SceneRun small = scenes::shrink_run(s, *first->broken_run, *first->broken, c.shrink_budget, &st);
-        scenes::Finding f = *first->broken;
-        try {
-          if (const auto j = scenes::judge_run(s, small); j.first_broken) f = *j.first_broken;
-        } catch (const scenes::SystemFault&) {
-        }
-        const auto file = scenes::write_system_record(std::filesystem::path(c.corpus_dir) / "systems", s, small, f, again);
-        line += fmt::format("\n  shrunk to {} object(s), {} frame(s) in {} system runs: {}", small.scene.objects.size(),
-                            small.frames.size(), st.tries, file.string());
-        js["record"] = file.string();
-      }
-      broken_lines.push_back(line);
+    nlohmann::json js = print_tallies(s, tallies);
+    const auto first = std::find_if(tallies.begin(), tallies.end(), [](const scenes::FamilyTally& t) { return t.broken.has_value(); });
+    if (first != tallies.end()) {
+      broken_lines.push_back(report_failure(c, s, runs, *first, js));
       failed = failed || fails_run(s);
     }
     out["systems"].push_back(std::move(js));
-    fmt::print("\n");
   }
-  if (broken_lines.empty()) {
-    fmt::print("every system held its claim\n");
-  } else {
-    for (const std::string& l : broken_lines) fmt::print("{}\n", l);
-  }
+  if (broken_lines.empty()) fmt::print("every system held its claim\n");
+  for (const std::string& l : broken_lines) fmt::print("{}\n", l);
   if (!c.json_file.empty()) write_file_atomic(c.json_file, out.dump(1) + "\n");
   return failed ? 1 : 0;
+}
+
+namespace {
+
+// The record files under <dir>/systems/, faults/ aside, in name order.
+std::vector<std::filesystem::path> system_record_files(const std::string& dir) {
+  std::vector<std::filesystem::path> files;
+  const std::filesystem::path root = std::filesystem::path(dir) / "systems";
+  if (!std::filesystem::exists(root)) return files;
+  for (auto it = std::filesystem::recursive_directory_iterator(root); it != std::filesystem::recursive_directory_iterator(); ++it) {
+    if (it.depth() == 0 && it->is_directory() && it->path().filename() == "faults") {
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (it->is_regular_file() && it->path().extension() == ".json") files.push_back(it->path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace
+
+std::size_t replay_system_records(const std::string& dir, const std::vector<System>& systems, std::size_t& records) {
+  const std::vector<std::filesystem::path> files = system_record_files(dir);
+  records = files.size();
+  std::size_t still = 0, known = 0;
+  for (const std::filesystem::path& file : files) {
+    const scenes::SystemRecord rec = scenes::read_system_record(file);
+    const auto s = std::find_if(systems.begin(), systems.end(), [&](const System& x) { return x.name == rec.system; });
+    std::string status;
+    if (s == systems.end()) {
+      status = "not replayed: system '" + rec.system + "' is not among those run here";
+    } else {
+      ++known;
+      try {
+        const scenes::RunJudgement j = scenes::judge_run(*s, rec.run);
+        if (!j.first_broken) status = "fixed";
+        else if (j.first_broken->frame == rec.failure.frame && j.first_broken->id == rec.failure.id) status = "still failing", ++still;
+        else status = fmt::format("changed (now frame {}, object {})", j.first_broken->frame, j.first_broken->id);
+      } catch (const scenes::SystemFault& f) {
+        status = std::string("FAULT: ") + f.what();
+      }
+    }
+    fmt::print("{:<72} {}\n", file.lexically_relative(dir).string(), status);
+  }
+  if (records) fmt::print("{} system record(s): {} of {} replayed still failing as recorded\n", records, still, known);
+  return known - still;
+}
+
+bool show_system_record(const std::string& dir, const std::string& id) {
+  for (const std::filesystem::path& file : system_record_files(dir)) {
+    if (file.stem() != id) continue;
+    const scenes::SystemRecord rec = scenes::read_system_record(file);
+    const scenes::Finding& f = rec.failure;
+    fmt::print("file: {}\nsystem: {} (claim {})\n", file.string(), rec.system, rec.record.value("claim", std::string("?")));
+    fmt::print("run: {} of {}, seed {} ({} object(s), {} frame(s), moving: {})\n", rec.run.index, rec.run.family, rec.run.seed,
+               rec.run.scene.objects.size(), rec.run.frames.size(), rec.run.motion);
+    fmt::print("frame {} (camera: {}), object {}: {} where the truth was {} ({})\n", f.frame, rec.run.frames[f.frame].camera,
+               f.id, to_string(f.verdict), to_string(f.truth), rec.record.value("error", std::string("?")));
+    fmt::print("case: {}\n", format_case(scenes::case_of(rec.run, f.frame, f.object)));
+    fmt::print("reproduce: {}\n", rec.record.value("reproduce", std::string("-")));
+    return true;
+  }
+  return false;
 }
 
 }  // namespace cullproof::app

@@ -25,7 +25,22 @@ case "$mode" in
     log=$("$cullproof" systems "${short[@]}" --family along-planes -- "$adapter" drop-near 2>&1); status=$?
     echo "$log"
     expect 1 "reproduce: cullproof systems --external reference-flat --family along-planes --index [0-9]+ .* -- .*cullproof_reference_system_adapter drop-near"
-    ls "$out"/systems/reference-flat/along-planes/*.json > /dev/null || { echo "cli_systems: no record" >&2; exit 1; }
+    record=$(ls "$out"/systems/reference-flat/along-planes/*.json | head -1)
+    [ -n "$record" ] || { echo "cli_systems: no record" >&2; exit 1; }
+    # The record replays as recorded with the bug, and as fixed without it (exit 1: no longer failing).
+    log=$("$cullproof" systems --replay --external reference-flat --corpus "$out" -- "$adapter" drop-near 2>&1); status=$?
+    echo "$log"
+    expect 0 "reference-flat/along-planes/.*json +still failing"
+    log=$("$cullproof" systems --replay --external reference-flat --corpus "$out" -- "$adapter" 2>&1); status=$?
+    echo "$log"
+    expect 1 "reference-flat/along-planes/.*json +fixed"
+    # corpus show finds it by its name; corpus replay lists it as not replayed (not a built-in system).
+    log=$("$cullproof" corpus show "$(basename "$record" .json)" --dir "$out" 2>&1); status=$?
+    echo "$log"
+    expect 0 "system: reference-flat \\(claim conservative\\)"
+    log=$("$cullproof" corpus replay --dir "$out" 2>&1); status=$?
+    echo "$log"
+    expect 0 "not replayed: system 'reference-flat' is not among those run here"
     ;;
   fault)
     log=$("$cullproof" systems "${short[@]}" --family clusters -- "$adapter" crash-on-scene 2>&1); status=$?
