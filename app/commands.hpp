@@ -119,12 +119,14 @@ int run_report_command(const ReportCommand& c);
 #endif
 
 #ifdef CULLPROOF_HAVE_SCENES
-/// `systems [--system NAME ...] [--family F ...] [--runs N] [--objects N] [--frames N] [--seed S]
-/// [--index I] [--json FILE] [--corpus DIR | --no-corpus] [--replay]`.
+/// `systems [--system NAME ...] [--family F ...] [--scene FILE ...] [--mesh-dir DIR] [--runs N]
+/// [--objects N] [--frames N] [--seed S] [--index I] [--json FILE] [--corpus DIR | --no-corpus]
+/// [--replay]`.
 struct SystemsCommand {
   CLI::App* cmd = nullptr;
   CLI::Option* index_option = nullptr;
-  std::vector<std::string> systems, families;
+  std::vector<std::string> systems, families, scene_files;
+  std::string mesh_dir;
   std::uint64_t runs = 6, objects = 200, frames = 12, seed = 1, index = 0;
   int shrink_budget = 300;
   std::string json_file, corpus_dir = "corpus";

@@ -7,11 +7,13 @@
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/io/files.hpp"
 #include "cullproof/scenes/scenes.hpp"
+#include "cullproof/sim/scene.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <map>
 #include <iostream>
 #include <limits>
 
@@ -43,7 +45,13 @@ void add_systems(CLI::App& app, SystemsCommand& c, ExternalProgram& external) {
       "systems", "Run culling systems (a hierarchy, masks, caches, moving objects) over the scene families and judge "
                  "every object of every frame against the oracle (docs/systems.md)");
   cmd->add_option("--system", c.systems, "Built-in system (repeatable; default: all of them)");
-  cmd->add_option("--family", c.families, "Scene family or 'all' (repeatable; default: all)");
+  cmd->add_option("--family", c.families, "Scene family or 'all' (repeatable; default: all, or none with --scene)");
+  cmd->add_option("--scene", c.scene_files,
+                  "A real-mesh scene file (corpus/scenes/*.json) as a run of its own: its leaves the objects, its "
+                  "camera path the frames (repeatable)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--mesh-dir", c.mesh_dir, "Mesh directory of --scene (default: $CULLPROOF_MESH_DIR or the cache dir "
+                                            "scripts/fetch-meshes fills)");
   cmd->add_option("--runs", c.runs, "Runs per family")->capture_default_str()->check(cli::UnsignedRange(1, kMaxRuns));
   cmd->add_option("--objects", c.objects, "Objects per scene")
       ->capture_default_str()
@@ -86,14 +94,16 @@ void save_fault(const SystemsCommand& c, const System& s, const scenes::SystemFa
 // The system's table, a line per family, and the same in JSON.
 nlohmann::json print_tallies(const System& s, const std::vector<scenes::FamilyTally>& tallies) {
   fmt::print("{} ({}, claim {}, {})\n", s.name, to_string(s.origin), to_string(s.claim), s.description);
-  fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", "family", "runs", "object-frames", "broken",
+  std::size_t w = 13;  // the family column: as wide as the longest name (a scene's may be long)
+  for (const scenes::FamilyTally& t : tallies) w = std::max(w, t.family.size());
+  fmt::print("  {:<{}} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", "family", w, "runs", "object-frames", "broken",
              "F.rej", "F.ins", "false-intersect % [95%]", "cull ns", "judge ns");
   nlohmann::json js = {{"system", s.name}, {"claim", std::string(to_string(s.claim))}, {"origin", std::string(to_string(s.origin))},
                        {"families", nlohmann::json::array()}};
   std::uint64_t broken = 0;
   for (const scenes::FamilyTally& t : tallies) {
     const std::uint64_t fi = t.by_class[int(ErrorClass::false_intersect)];
-    fmt::print("  {:<13} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", t.family, t.runs, t.judged, t.claim_broken,
+    fmt::print("  {:<{}} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", t.family, w, t.runs, t.judged, t.claim_broken,
                t.by_class[int(ErrorClass::false_reject)], t.by_class[int(ErrorClass::false_inside)], rate(fi, t.truth_outside),
                per_object(t.cull_seconds, t.judged), per_object(t.judge_seconds, t.judged));
     js["families"].push_back({{"family", t.family},
@@ -117,12 +127,18 @@ nlohmann::json print_tallies(const System& s, const std::vector<scenes::FamilyTa
 // The line that says where the claim broke and how to rerun it; the run shrunk and recorded
 // (its file in js["record"]) unless --no-corpus.
 std::string report_failure(const SystemsCommand& c, const System& s, const scenes::VerifyRuns& runs,
-                           const scenes::FamilyTally& first, nlohmann::json& js) {
+                           const std::map<std::string, std::string>& scene_file, const scenes::FamilyTally& first,
+                           nlohmann::json& js) {
   // A program's system is named with --external and the program after '--'.
   const std::string which = s.program.empty() ? "--system " + s.name : "--external " + s.name;
-  const std::string again = fmt::format("cullproof systems {} --family {} --index {} --seed {} --objects {} --frames {}{}",
-                                        which, first.family, first.broken_run->index, runs.seed, runs.size.objects,
-                                        runs.size.frames, s.program.empty() ? std::string() : " -- " + s.program);
+  const std::string program = s.program.empty() ? std::string() : " -- " + s.program;
+  const auto given = scene_file.find(first.family);
+  const std::string again =
+      given != scene_file.end()
+          ? fmt::format("cullproof systems {} --scene {}{}{}", which, given->second,
+                        c.mesh_dir.empty() ? std::string() : " --mesh-dir " + c.mesh_dir, program)
+          : fmt::format("cullproof systems {} --family {} --index {} --seed {} --objects {} --frames {}{}", which,
+                        first.family, first.broken_run->index, runs.seed, runs.size.objects, runs.size.frames, program);
   std::string line = fmt::format("{} breaks its claim '{}' on {} object-frame(s); first: {} run {}, frame {}, object {} "
                                  "({} where the truth is {}); reproduce: {}",
                                  s.name, to_string(s.claim), js["claim_broken"].get<std::uint64_t>(), first.family,
@@ -147,12 +163,22 @@ std::string report_failure(const SystemsCommand& c, const System& s, const scene
 int run_systems_command(const SystemsCommand& c, const ExternalProgram& external) {
   std::vector<System> systems;
   scenes::VerifyRuns runs;
+  std::map<std::string, std::string> scene_file;  // a given scene's family: its file
   try {
     systems = external.systems(c.systems);
     runs.families.clear();
+    const bool drawn = !c.families.empty() || c.scene_files.empty();
     for (const std::string& f : c.families.empty() ? std::vector<std::string>{"all"} : c.families)
       for (const std::string& name : scenes::parse_families(f))
-        if (std::find(runs.families.begin(), runs.families.end(), name) == runs.families.end()) runs.families.push_back(name);
+        if (drawn && std::find(runs.families.begin(), runs.families.end(), name) == runs.families.end())
+          runs.families.push_back(name);
+    const std::filesystem::path mesh_dir = c.mesh_dir.empty() ? sim::default_mesh_dir() : std::filesystem::path(c.mesh_dir);
+    for (const std::string& file : c.scene_files) {
+      runs.given.push_back(sim::mesh_scene_run(sim::load_scene(file), mesh_dir));
+      if (!scene_file.emplace(runs.given.back().family, file).second)
+        throw std::invalid_argument("--scene " + file + ": a scene named '" + runs.given.back().scene.name +
+                                    "' is given twice");
+    }
   } catch (const std::exception& e) {
     std::cerr << "cullproof systems: " << e.what() << "\n";
     return 2;
@@ -167,8 +193,8 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
   runs.size.objects = c.objects, runs.size.frames = c.frames;
   if (c.index_option && c.index_option->count()) runs.only_index = c.index;
 
-  nlohmann::json out = {{"seed", runs.seed}, {"runs", runs.runs}, {"objects", runs.size.objects},
-                        {"frames", runs.size.frames}, {"systems", nlohmann::json::array()}};
+  nlohmann::json out = {{"seed", runs.seed},          {"runs", runs.runs},     {"objects", runs.size.objects},
+                        {"frames", runs.size.frames}, {"scenes", c.scene_files}, {"systems", nlohmann::json::array()}};
   std::vector<std::string> broken_lines;
   bool failed = false;
   for (const System& s : systems) {
@@ -182,7 +208,7 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
     nlohmann::json js = print_tallies(s, tallies);
     const auto first = std::find_if(tallies.begin(), tallies.end(), [](const scenes::FamilyTally& t) { return t.broken.has_value(); });
     if (first != tallies.end()) {
-      broken_lines.push_back(report_failure(c, s, runs, *first, js));
+      broken_lines.push_back(report_failure(c, s, runs, scene_file, *first, js));
       failed = failed || fails_run(s);
     }
     out["systems"].push_back(std::move(js));

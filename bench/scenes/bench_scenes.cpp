@@ -7,10 +7,12 @@
 // BM_Cull/N: one cull of the frame by bvh-masked (the BVH built outside the timing).
 // BM_Judge/N: the exact truth of every object of the frame, one oracle::truth (filtered) each.
 // BM_JudgeHierarchy/N: the same truths down the hierarchy of enclosing boxes (scenes::SceneTruths,
-//   built outside the timing): a node decided inside or outside decides its objects.
+//   built outside the timing): a node decided inside or outside decides its objects, the
+//   exact-certified cascade the objects no certified test decides.
 // BM_JudgeRun/N: scenes::judge_run on the one-frame run: the system built and culled, the set
 //   checked, the hierarchy built and decided, every object's error class.
-// Counters: ns per object; visible_fraction of the frame; oracle calls per object.
+// Counters: ns per object; visible_fraction of the frame; oracle calls and exact-certified
+// decisions per object.
 #include "cullproof/oracle/oracle.hpp"
 #include "cullproof/scenes/scenes.hpp"
 #include "cullproof/systems/system.hpp"
@@ -69,7 +71,7 @@ void BM_JudgeHierarchy(benchmark::State& state) {
   for (const SceneObject& o : run.scene.objects) world.push_back(o.world);
   scenes::SceneTruths truths(world);
   std::vector<Visibility> truth;
-  const std::uint64_t before = truths.oracle_calls();
+  const std::uint64_t before = truths.oracle_calls(), exact_before = truths.exact_decisions();
   std::uint64_t frames = 0;
   for (auto _ : state) {
     truths.decide(run.frames[0].view.frustum, truth);
@@ -80,6 +82,8 @@ void BM_JudgeHierarchy(benchmark::State& state) {
       benchmark::Counter(double(run.scene.objects.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["oracle_calls_per_object"] =
       double(truths.oracle_calls() - before) / double(frames) / double(run.scene.objects.size());
+  state.counters["exact_per_object"] =
+      double(truths.exact_decisions() - exact_before) / double(frames) / double(run.scene.objects.size());
 }
 
 void BM_JudgeRun(benchmark::State& state) {

@@ -4,7 +4,6 @@
 // the coherent configurations are measured as they work: across frames. Run from the source
 // directory after scripts/fetch-meshes. `cullproof simulate --table1` reports the same as speedups.
 #include "cullproof/sim/simulate.hpp"
-#include "cullproof/sim/engine.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -19,7 +18,7 @@ namespace {
 struct Loaded {
   SceneDesc scene;
   std::unique_ptr<World> world;
-  std::vector<std::vector<std::vector<View>>> views;  // [path kind][frame][view]
+  std::vector<std::vector<std::vector<CullView>>> views;  // [path kind][frame][view]
   std::string error;
 };
 
@@ -33,8 +32,11 @@ const Loaded& loaded() {
       for (PathKind k : {PathKind::navigation, PathKind::translation_rotation, PathKind::rotation, PathKind::translation}) {
         SceneDesc s = x.scene;
         s.camera.kind = k;
-        std::vector<std::vector<View>> v;
-        for (const CameraFrame& c : camera_path(s, *x.world)) v.push_back(frame_views(s.projection, c));
+        std::vector<std::vector<CullView>> v;
+        for (const CameraFrame& c : camera_path(s, *x.world)) {
+          v.emplace_back();
+          for (const View& one : frame_views(s.projection, c)) v.back().push_back(cull_view(one));
+        }
         x.views.push_back(std::move(v));
       }
     } catch (const std::exception& e) {
@@ -53,17 +55,14 @@ void BM_Path(benchmark::State& state) {
   }
   const auto& views = l.views[static_cast<std::size_t>(state.range(0))];
   const Config c = static_cast<Config>(state.range(1));
-  detail::Engine engine(*l.world, static_cast<int>(views.front().size()));
-  detail::Output out;
-  const std::vector<std::uint32_t> none;
+  std::vector<HierarchyCuller> cullers;
+  for (std::size_t v = 0; v < views.front().size(); ++v) cullers.emplace_back(c, l.world->bvh);
+  VisibleSet out;
   for (auto _ : state) {
-    engine.reset();
+    for (HierarchyCuller& one : cullers) one.reset();
     for (const auto& frame : views)
-      for (int v = 0; v < static_cast<int>(frame.size()); ++v) {
-        engine.setup(c, v, frame[static_cast<std::size_t>(v)], false, none);
-        engine.run(c, v, out, false);
-      }
-    benchmark::DoNotOptimize(out.leaves.data());
+      for (std::size_t v = 0; v < frame.size(); ++v) cullers[v].cull(frame[v], out);
+    benchmark::DoNotOptimize(out.indices.data());
   }
   state.counters["s_per_frame"] = benchmark::Counter(static_cast<double>(views.size()),
                                                   benchmark::Counter::kIsIterationInvariantRate |

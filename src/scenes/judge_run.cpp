@@ -126,8 +126,38 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
     j.judge_seconds += seconds_since(t);
   }
   j.oracle_calls = truths.oracle_calls();
+  j.exact_decisions = truths.exact_decisions();
   return j;
 }
+
+namespace {
+
+// Judges `system` on one run and adds it to the family's tally; a fault names the run.
+void tally_run(const System& system, SceneRun run, const std::string& which, FamilyTally& t, std::uint64_t& judged,
+               Clock::time_point start) {
+  RunJudgement j;
+  try {
+    j = judge_run(system, run);
+  } catch (const SystemFault& f) {
+    throw SystemFault(std::string(f.what()) + " (" + which + ")", f.frame(), std::make_shared<const SceneRun>(std::move(run)));
+  }
+  ++t.runs;
+  t.judged += j.judged;
+  t.truth_outside += j.truth_outside;
+  judged += j.judged;
+  t.claim_broken += j.claim_broken;
+  t.cull_seconds += j.cull_seconds;
+  t.judge_seconds += j.judge_seconds;
+  for (int c = 0; c < 5; ++c) t.by_class[c] += j.by_class[c];
+  if (j.first_broken && !t.broken) {
+    t.broken = j.first_broken;
+    t.broken_run = std::move(run);
+    t.seconds_to_broken = seconds_since(start);
+    t.judged_to_broken = judged;
+  }
+}
+
+}  // namespace
 
 std::vector<FamilyTally> verify_system(const System& system, const VerifyRuns& runs) {
   std::vector<FamilyTally> out;
@@ -138,31 +168,15 @@ std::vector<FamilyTally> verify_system(const System& system, const VerifyRuns& r
     t.family = family;
     const std::uint64_t first = runs.only_index ? *runs.only_index : 0;
     const std::uint64_t last = runs.only_index ? first + 1 : runs.runs;
-    for (std::uint64_t i = first; i < last; ++i) {
-      SceneRun run = draw_run(family, runs.seed, i, runs.size);
-      RunJudgement j;
-      try {
-        j = judge_run(system, run);
-      } catch (const SystemFault& f) {
-        throw SystemFault(std::string(f.what()) + " (run " + std::to_string(i) + " of " + family + ", seed " +
-                              std::to_string(runs.seed) + ")",
-                          f.frame(), std::make_shared<const SceneRun>(std::move(run)));
-      }
-      ++t.runs;
-      t.judged += j.judged;
-      t.truth_outside += j.truth_outside;
-      judged += j.judged;
-      t.claim_broken += j.claim_broken;
-      t.cull_seconds += j.cull_seconds;
-      t.judge_seconds += j.judge_seconds;
-      for (int c = 0; c < 5; ++c) t.by_class[c] += j.by_class[c];
-      if (j.first_broken && !t.broken) {
-        t.broken = j.first_broken;
-        t.broken_run = std::move(run);
-        t.seconds_to_broken = seconds_since(start);
-        t.judged_to_broken = judged;
-      }
-    }
+    for (std::uint64_t i = first; i < last; ++i)
+      tally_run(system, draw_run(family, runs.seed, i, runs.size),
+                "run " + std::to_string(i) + " of " + family + ", seed " + std::to_string(runs.seed), t, judged, start);
+    out.push_back(std::move(t));
+  }
+  for (const SceneRun& run : runs.given) {
+    FamilyTally t;
+    t.family = run.family;
+    tally_run(system, run, "scene " + run.scene.name, t, judged, start);
     out.push_back(std::move(t));
   }
   return out;

@@ -1,12 +1,15 @@
 // The exact truth of a scene's objects, decided down a hierarchy of their enclosing boxes with
-// certified proofs, and by the oracle where no proof decides (cullproof/scenes/scenes.hpp,
-// SceneTruths).
+// certified proofs, then by the exact-certified cascade, and by the oracle where neither applies
+// (cullproof/scenes/scenes.hpp, SceneTruths).
 #include "cullproof/scenes/scenes.hpp"
 
 #include "cullproof/core/certified.hpp"
 #include "cullproof/oracle/oracle.hpp"
+#include "cullproof/simd/exact_certified.hpp"
 
 #include <cmath>
+#include <optional>
+#include <variant>
 
 namespace cullproof::scenes {
 
@@ -28,7 +31,43 @@ Visibility certified(const CertifiedFrustum& f, const Volume& v) {
   return certified_obb_pn_vertex(f, std::get<Obb>(v));
 }
 
+bool finite(const Volume& v) {
+  return std::visit(
+      [](const auto& x) {
+        const float* f = reinterpret_cast<const float*>(&x);
+        for (std::size_t k = 0; k < sizeof(x) / sizeof(float); ++k)
+          if (!std::isfinite(f[k])) return false;
+        return true;
+      },
+      v);
+}
+
 }  // namespace
+
+// The exact-certified frustum of the frame being decided, prepared when the first object needs it.
+struct SceneTruths::Frame {
+  const CaseFrustum& f;
+  std::optional<ExactCertifiedFrustum> exact;
+  const ExactCertifiedFrustum& prepared() {
+    if (!exact) exact = prepare_exact_certified(f);
+    return *exact;
+  }
+};
+
+// The exact verdict of an object no certified test decided: the exact-certified cascade for a
+// finite sphere, box or OBB (its verdict is the exact truth: docs/exact-culling.md), the oracle
+// for a point or a volume with a value past float's range.
+Visibility SceneTruths::exact(Frame& frame, const Volume& v) {
+  if (!std::holds_alternative<Point>(v) && finite(v)) {
+    ++exact_;
+    const ExactCertifiedFrustum& ef = frame.prepared();
+    if (const auto* s = std::get_if<Sphere>(&v)) return exact_certified_sphere(ef, *s);
+    if (const auto* b = std::get_if<Aabb>(&v)) return exact_certified_aabb(ef, *b);
+    return exact_certified_obb(ef, std::get<Obb>(v));
+  }
+  ++calls_;
+  return oracle::truth(frame.f, v);
+}
 
 SceneTruths::SceneTruths(std::vector<Volume> world) : world_(std::move(world)) {
   boxes_.reserve(world_.size());
@@ -47,7 +86,7 @@ void SceneTruths::fill(std::uint32_t node, Visibility v, std::vector<Visibility>
   for (std::uint32_t k = first; k < last; ++k) truth[bvh_.prim_order[k]] = v;
 }
 
-void SceneTruths::visit(const CertifiedFrustum& cf, const CaseFrustum& f, std::uint32_t node, std::vector<Visibility>& truth) {
+void SceneTruths::visit(const CertifiedFrustum& cf, Frame& frame, std::uint32_t node, std::vector<Visibility>& truth) {
   const BvhNode& n = bvh_.nodes[node];
   // A box past float's range (an object reaching past FLT_MAX) decides nothing: its children or
   // objects are decided instead.
@@ -68,20 +107,20 @@ void SceneTruths::visit(const CertifiedFrustum& cf, const CaseFrustum& f, std::u
         truth[i] = v;
         continue;
       }
-      ++calls_;
-      truth[i] = oracle::truth(f, world_[i]);
+      truth[i] = exact(frame, world_[i]);
     }
     return;
   }
-  visit(cf, f, node + 1, truth);
-  visit(cf, f, n.right_or_first, truth);
+  visit(cf, frame, node + 1, truth);
+  visit(cf, frame, n.right_or_first, truth);
 }
 
 void SceneTruths::decide(const CaseFrustum& f, std::vector<Visibility>& truth) {
   truth.assign(world_.size(), Visibility::outside);
   if (world_.empty()) return;
   if (stale_) refit_bvh(bvh_, boxes_), stale_ = false;
-  visit(certify(f), f, 0, truth);
+  Frame frame{f, std::nullopt};
+  visit(certify(f), frame, 0, truth);
 }
 
 }  // namespace cullproof::scenes

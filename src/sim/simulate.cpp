@@ -16,7 +16,6 @@
 #include "cullproof/judge/judge.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/oracle/oracle.hpp"
-#include "cullproof/sim/engine.hpp"
 #include "cullproof/core/splitmix.hpp"
 
 #include <fmt/format.h>
@@ -33,21 +32,6 @@
 namespace cullproof::sim {
 
 using nlohmann::json;
-
-std::string_view to_string(Config c) noexcept {
-  switch (c) {
-    case Config::perspective_transform: return "perspective-transform";
-    case Config::basic_np: return "basic-np";
-    case Config::pc_octant: return "pc-octant";
-    case Config::pc_tr: return "pc-tr";
-    case Config::pc_octant_tr: return "pc-octant-tr";
-    case Config::masking: return "masking";
-    case Config::lib_bvh_plain: return "lib-bvh-plain";
-    case Config::lib_bvh_masked: return "lib-bvh-masked";
-    case Config::lib_bvh_coherent: return "lib-bvh-coherent";
-  }
-  return "?";
-}
 
 void Counters::add(const Counters& o) {
   nodes_visited += o.nodes_visited;
@@ -118,7 +102,7 @@ std::vector<Optimisation> decide_optimisations(const SceneDesc& scene, const Wor
   for (const CameraFrame& f : path) {
     for (const View& v : frame_views(scene.projection, f)) {
       double d1 = 0.0;
-      const std::string w = detail::octant_decision(v.proj, v.depth, &d1);
+      const std::string w = octant_decision(v.proj, v.depth, &d1);
       if (!w.empty()) {
         ++refused;
         if (why.empty()) why = w;
@@ -217,27 +201,30 @@ namespace {
 class Simulation {
  public:
   Simulation(const SceneDesc& scene, World& world, const SimulateOptions& opt, SimResult& r)
-      : scene_(scene), world_(world), opt_(opt), r_(r), engine_(world, r.views_per_frame), outs_(r.configs.size()),
+      : scene_(scene), world_(world), opt_(opt), r_(r), cullers_(r.configs.size()), outs_(r.configs.size()),
+        node_verdicts_(r.configs.size()),
         leafv_(r.configs.size()), written_(r.configs.size(), 0), L_(world.leaf_count()) {}
 
-  void frame(int f, const CameraFrame& cam, bool proj_changed, const std::vector<std::uint32_t>& moved) {
+  void frame(int f, const CameraFrame& cam, const std::vector<std::uint32_t>& moved) {
     const std::vector<View> views = frame_views(scene_.projection, cam);
     for (int v = 0; v < static_cast<int>(views.size()); ++v) {
       const View& view = views[static_cast<std::size_t>(v)];
-      for (std::size_t ci = 0; ci < r_.configs.size(); ++ci) run_config(ci, f, v, cam, view, proj_changed, moved);
+      for (std::size_t ci = 0; ci < r_.configs.size(); ++ci) run_config(ci, f, v, cam, view, moved);
       if (opt_.verify) check_view(f, v, cam, view);
     }
   }
 
  private:
   // The configuration's traversal of one view, timed, recorded, and its verdicts kept per leaf.
-  void run_config(std::size_t ci, int f, int v, const CameraFrame& cam, const View& view, bool proj_changed,
+  void run_config(std::size_t ci, int f, int v, const CameraFrame& cam, const View& view,
                   const std::vector<std::uint32_t>& moved) {
     const Config c = r_.configs[ci];
-    detail::Output& out = outs_[ci];
+    VisibleSet& out = outs_[ci];
+    HierarchyCuller& culler = culler_of(ci, v);
+    const CullView cv = cull_view(view);
     const double t0 = now_ns();
-    engine_.setup(c, v, view, proj_changed, moved);
-    engine_.run(c, v, out, true);
+    if (!moved.empty()) culler.moved(moved);
+    culler.cull(cv, out, &node_verdicts_[ci]);
     const double t1 = now_ns();
     FrameRecord rec;
     rec.frame = f;
@@ -245,21 +232,30 @@ class Simulation {
     rec.motion = cam.motion;
     rec.config = c;
     rec.moved_nodes = static_cast<std::uint32_t>(moved.size());
-    const detail::ConfigView& st = engine_.state(c, v);
-    rec.tr_used = (c == Config::pc_tr || c == Config::pc_octant_tr) && st.tr_used;
-    rec.octant_used = (c == Config::pc_octant || c == Config::pc_octant_tr) && st.octant_ok && !rec.tr_used;
-    rec.c.nodes_visited = out.visited;
-    rec.c.plane_tests = out.tests;
+    const HierarchyFrame& st = culler.frame();
+    rec.tr_used = st.tr_used;
+    rec.octant_used = st.octant_used;
+    rec.c.nodes_visited = st.visited;
+    rec.c.plane_tests = st.tests;
     rec.c.leaves = L_;
-    rec.c.visible = out.leaves.size();
-    for (std::uint8_t vv : out.verdicts) rec.c.inside += vv == static_cast<std::uint8_t>(Visibility::inside);
+    rec.c.visible = out.indices.size();
+    for (Visibility vv : out.verdicts) rec.c.inside += vv == Visibility::inside;
     rec.c.tr_frames = rec.tr_used;
     rec.c.octant_frames = rec.octant_used;
     rec.c.time_ns = t1 - t0;
     r_.records.push_back(rec);
     auto& lv = leafv_[ci];
     lv.assign(L_, static_cast<std::uint8_t>(Visibility::outside));
-    for (std::size_t k = 0; k < out.leaves.size(); ++k) lv[out.leaves[k]] = out.verdicts[k];
+    for (std::size_t k = 0; k < out.indices.size(); ++k) lv[out.indices[k]] = static_cast<std::uint8_t>(out.verdicts[k]);
+  }
+
+  // The configuration's culler in view v (one per view: each keeps its own caches).
+  HierarchyCuller& culler_of(std::size_t ci, int v) {
+    auto& per_view = cullers_[ci];
+    HierarchyCuller::Options o;
+    o.ignore_projection_change = opt_.bypass_zoom_guard;
+    while (static_cast<int>(per_view.size()) <= v) per_view.emplace_back(r_.configs[ci], world_.bvh, o);
+    return per_view[static_cast<std::size_t>(v)];
   }
 
   // Every leaf when exhaustive; else opt.samples random leaves (seeded by seed, frame and view)
@@ -323,7 +319,7 @@ class Simulation {
   // or inside.
   std::uint32_t decider(std::size_t ci, std::uint32_t leaf) const {
     std::uint32_t d = world_.leaf_node[leaf];
-    const auto& nv = outs_[ci].node_verdict;
+    const auto& nv = node_verdicts_[ci];
     for (std::int32_t n = static_cast<std::int32_t>(d); n >= 0; n = world_.parent[static_cast<std::size_t>(n)]) {
       const std::uint8_t x = nv.empty() ? 255 : nv[static_cast<std::size_t>(n)];
       if (x == static_cast<std::uint8_t>(Visibility::outside) || x == static_cast<std::uint8_t>(Visibility::inside))
@@ -344,15 +340,15 @@ class Simulation {
     mm.node = decider(ci, leaf);
     if (opt_.write_corpus && written_[ci] < opt_.corpus_per_config) {
       ++written_[ci];
-      mm.file = write_mismatch(mm, cam, view, spec, verdict, t);
+      mm.file = write_mismatch(ci, mm, cam, view, spec, verdict, t);
     }
     r_.mismatches.push_back(mm);
   }
 
   // The deciding node's box as a corpus case, with the state of the configuration that produced
   // the verdict (plane-coherency cache, TR coherency, octant).
-  std::string write_mismatch(const Mismatch& mm, const CameraFrame& cam, const View& view, const CaseFrustum& spec,
-                             Visibility verdict, Visibility t) {
+  std::string write_mismatch(std::size_t ci, const Mismatch& mm, const CameraFrame& cam, const View& view,
+                             const CaseFrustum& spec, Visibility verdict, Visibility t) {
     const Config c = mm.config;
     Case cs;
     cs.id = fmt::format("scene-{}-{}-f{}-v{}-n{}", scene_.name, to_string(c), mm.frame, mm.view, mm.node);
@@ -361,8 +357,9 @@ class Simulation {
     cs.truth = oracle::truth(cs.frustum, cs.volume);
     cs.note = fmt::format("scene simulation: {} gave {} for leaf {} (truth {})", to_string(c),
                           std::string(cullproof::to_string(verdict)), mm.leaf, std::string(cullproof::to_string(t)));
-    const detail::ConfigView& st = engine_.state(c, mm.view);
-    const TrObjectState& trs = st.tr[mm.node];
+    const HierarchyCuller& culler = cullers_[ci][static_cast<std::size_t>(mm.view)];
+    const HierarchyFrame& st = culler.frame();
+    const TrObjectState& trs = culler.tr_state(mm.node);
     json tr = {{"test_frame", trs.test_frame},
                {"outside_bits", trs.outside_bits},
                {"angle_at_test", trs.angle_at_test},
@@ -381,10 +378,10 @@ class Simulation {
                     {"leaf_box", box_json(world_.bvh.prim_boxes[mm.leaf])},
                     {"node", mm.node},
                     {"cached_state",
-                     {{"plane_coherency_last_plane", st.pc[mm.node]},
+                     {{"plane_coherency_last_plane", culler.last_plane(mm.node)},
                       {"tr_used", st.tr_used},
                       {"tr_reason", st.tr_why},
-                      {"octant_used", st.octant_ok},
+                      {"octant_used", st.octant_used},
                       {"tr", tr}}}};
     const std::filesystem::path file = std::filesystem::path(opt_.corpus_dir) / (cs.id + ".json");
     std::filesystem::create_directories(file.parent_path());
@@ -396,8 +393,9 @@ class Simulation {
   World& world_;
   const SimulateOptions& opt_;
   SimResult& r_;
-  detail::Engine engine_;
-  std::vector<detail::Output> outs_;
+  std::vector<std::vector<HierarchyCuller>> cullers_;  // per configuration, per view
+  std::vector<VisibleSet> outs_;
+  std::vector<std::vector<std::uint8_t>> node_verdicts_;
   std::vector<std::vector<std::uint8_t>> leafv_;
   std::vector<int> written_;
   const std::uint32_t L_;
@@ -434,9 +432,7 @@ SimResult simulate(const SceneDesc& scene_in, World& world, const SimulateOption
     std::vector<std::uint32_t> moved;
     if (!scene.moving.empty()) moved = move_objects(scene, world, f);
     const CameraFrame& cam = path[static_cast<std::size_t>(f)];
-    const bool proj_changed =
-        !opt.bypass_zoom_guard && f > 0 && cam.fovy_deg != path[static_cast<std::size_t>(f - 1)].fovy_deg;
-    sim.frame(f, cam, proj_changed, moved);
+    sim.frame(f, cam, moved);
     progress.update(f + 1);
   }
   for (const FrameRecord& rec : r.records)

@@ -11,7 +11,6 @@
 // speedup = median(baseline) / median(configuration), A&M's time1/time2 (footnote 2).
 #include "cullproof/sim/simulate.hpp"
 
-#include "cullproof/sim/engine.hpp"
 
 #include <fmt/format.h>
 
@@ -93,27 +92,31 @@ Table1Result run_table1(const SimulateOptions& opt) {
       cell.path = kPaths[p];
       cell.frames = static_cast<int>(path.size());
       std::vector<std::vector<double>> times(std::size(kTimed));
-      detail::Engine engine(world, static_cast<int>(views.front().size()));
-      detail::Output out;
-      const std::vector<std::uint32_t> none;
+      std::vector<std::vector<CullView>> cull_views(views.size());
+      for (std::size_t f = 0; f < views.size(); ++f)
+        for (const View& v : views[f]) cull_views[f].push_back(cull_view(v));
+      std::vector<std::vector<HierarchyCuller>> cullers(std::size(kTimed));
+      for (std::size_t ci = 0; ci < std::size(kTimed); ++ci)
+        for (std::size_t v = 0; v < views.front().size(); ++v) cullers[ci].emplace_back(kTimed[ci], world.bvh);
+      VisibleSet out;
+      // One configuration over the whole path, from a first frame (the caches reset untimed).
+      const auto reset = [&](std::size_t ci) {
+        for (HierarchyCuller& c : cullers[ci]) c.reset();
+      };
+      const auto run_path = [&](std::size_t ci) {
+        for (std::size_t f = 0; f < cull_views.size(); ++f)
+          for (std::size_t v = 0; v < cull_views[f].size(); ++v) cullers[ci][v].cull(cull_views[f][v], out);
+      };
       // Warm-up (untimed): caches, and the oracle's worker threads idle again before timing.
       for (std::size_t ci = 0; ci < std::size(kTimed); ++ci) {
-        engine.reset();
-        for (std::size_t f = 0; f < views.size(); ++f)
-          for (int v = 0; v < static_cast<int>(views[f].size()); ++v) {
-            engine.setup(kTimed[ci], v, views[f][static_cast<std::size_t>(v)], false, none);
-            engine.run(kTimed[ci], v, out, false);
-          }
+        reset(ci);
+        run_path(ci);
       }
       for (int rep = 0; rep < t.repetitions; ++rep) {
         for (std::size_t ci = 0; ci < std::size(kTimed); ++ci) {
-          engine.reset();
+          reset(ci);
           const double a = now_ns();
-          for (std::size_t f = 0; f < views.size(); ++f)
-            for (int v = 0; v < static_cast<int>(views[f].size()); ++v) {
-              engine.setup(kTimed[ci], v, views[f][static_cast<std::size_t>(v)], false, none);
-              engine.run(kTimed[ci], v, out, false);
-            }
+          run_path(ci);
           times[ci].push_back(now_ns() - a);
         }
       }

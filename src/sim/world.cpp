@@ -681,7 +681,8 @@ std::vector<View> frame_views(const ProjectionDesc& p, const CameraFrame& c) {
   };
   auto make = [&](const glm::mat4& proj, const glm::vec3& eye, bool persp) {
     View v;
-    v.clip = proj * view_matrix(eye);
+    v.look = view_matrix(eye);
+    v.clip = proj * v.look;
     v.proj = proj;
     v.frustum = frustum_from_matrix(v.clip, v.depth);
     v.eye = eye;
@@ -722,6 +723,19 @@ std::vector<View> frame_views(const ProjectionDesc& p, const CameraFrame& c) {
       break;
   }
   return out;
+}
+
+CullView cull_view(const View& v) {
+  CullView c;
+  c.frustum.planes = v.frustum;
+  c.frustum.matrix = v.clip;
+  c.frustum.depth = v.depth;
+  c.view = v.look;
+  c.projection = v.proj;
+  c.eye = v.eye;
+  c.axes = v.axes;
+  c.perspective = v.perspective;
+  return c;
 }
 
 }  // namespace cullproof::sim

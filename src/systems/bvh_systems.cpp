@@ -2,7 +2,8 @@
 // refitted when objects move, and the same per-box test in a flat loop beside them.
 //
 // Sources: Assarsson & Möller 2000, "Optimized View Frustum Culling Algorithms for Bounding
-// Boxes", §3.1 (the n/p-vertex test), §3.2 (plane coherency), §3.4 (plane masking); the Cesium
+// Boxes", §3.1 (the n/p-vertex test), §3.2 (plane coherency), §3.3 (the octant test), §3.4 (plane
+// masking), §3.5 (TR coherency, through the hierarchy culler of hierarchy.hpp); the Cesium
 // text on hierarchical culling with plane masking. The BVH is build_bvh's median split (leaves of
 // four objects); after objects move it is refitted (refit_bvh), not rebuilt, as engines do between
 // rebuilds; the wide BVHs are collapsed again from the refitted binary one.
@@ -15,8 +16,10 @@
 
 #include "cullproof/core/cull.hpp"
 #include "cullproof/simd/bvh_wide.hpp"
+#include "cullproof/systems/hierarchy.hpp"
 
 #include <stdexcept>
+#include <memory>
 #include <string>
 #include <unordered_map>
 
@@ -100,17 +103,58 @@ struct BoxSystem {
   }
 };
 
-System box_system(const char* name, const char* description, const char* source, Traversal kind) {
+// A node test of the hierarchy culler (cullproof/systems/hierarchy.hpp) over a BVH of one object
+// per leaf, so that every object's verdict comes from the node test and the caches it keeps.
+// After objects move, the BVH is refitted and the nodes whose boxes changed lose their TR state.
+struct NodeTestSystem {
+  Boxes objects;
+  std::unique_ptr<Bvh> bvh;  // the culler keeps its address
+  HierarchyCuller culler;
+
+  NodeTestSystem(HierarchyTest test, const Scene& scene)
+      : objects(scene), bvh(std::make_unique<Bvh>(build_bvh(objects.boxes, 1))), culler(test, *bvh) {}
+  void update(const std::vector<SceneObject>& moved) {
+    objects.move(moved);
+    std::vector<Aabb> before(bvh->nodes.size());
+    for (std::size_t n = 0; n < before.size(); ++n) before[n] = bvh->nodes[n].box;
+    refit_bvh(*bvh, objects.boxes);
+    std::vector<std::uint32_t> changed;
+    for (std::size_t n = 0; n < before.size(); ++n)
+      if (before[n].min != bvh->nodes[n].box.min || before[n].max != bvh->nodes[n].box.max)
+        changed.push_back(static_cast<std::uint32_t>(n));
+    culler.moved(changed);
+  }
+  void cull(const CullView& view, VisibleSet& out) {
+    culler.cull(view, out);
+    objects.to_ids(out);
+  }
+};
+
+SystemInfo own_info(const char* name, const char* description, const char* source, double tolerance) {
   SystemInfo info;
   info.name = name;
   info.description = description;
   info.source = source;
   info.claim = Claim::conservative;
-  info.tolerance = 1e-6;  // the n/p-vertex test's (its plane evaluations round)
+  info.tolerance = tolerance;
   info.touching = "by the enclosing box: touching from outside is intersecting, from inside inside";
   info.origin = Origin::own;
+  return info;
+}
+
+System node_test_system(const char* name, const char* description, const char* source, HierarchyTest test) {
+  // The octant and TR tests derive planes and distances from the given ones: the tolerance of
+  // the derived methods (octant-corrected, tr-coherency).
   return make_system(
-      std::move(info), [kind](const Scene& s) { return BoxSystem(kind, s); },
+      own_info(name, description, source, 1e-5), [test](const Scene& s) { return NodeTestSystem(test, s); },
+      [](NodeTestSystem& s, const std::vector<SceneObject>& moved) { s.update(moved); },
+      [](NodeTestSystem& s, const CullView& v, VisibleSet& out) { s.cull(v, out); });
+}
+
+System box_system(const char* name, const char* description, const char* source, Traversal kind) {
+  // The n/p-vertex test's tolerance: its plane evaluations round.
+  return make_system(
+      own_info(name, description, source, 1e-6), [kind](const Scene& s) { return BoxSystem(kind, s); },
       [](BoxSystem& s, const std::vector<SceneObject>& moved) { s.update(moved); },
       [](BoxSystem& s, const CullView& v, VisibleSet& out) { s.cull(v, out); });
 }
@@ -131,6 +175,16 @@ std::vector<System> make_builtin_systems() {
                  "Assarsson & Möller 2000, §3.4; Dammertz, Hanika & Keller 2008", Traversal::wide4),
       box_system("bvh8-masked", "8-wide BVH collapsed from the binary one, plane masks, SIMD lanes per node",
                  "Assarsson & Möller 2000, §3.4; Dammertz, Hanika & Keller 2008", Traversal::wide8),
+      node_test_system("bvh-pc-octant",
+                       "binary BVH of one object per leaf, plane coherency and the corrected octant test (plane "
+                       "coherency alone when the frustum is not symmetric or not bounded)",
+                       "Assarsson & Möller 2000, §3.2 and §3.3", HierarchyTest::pc_octant),
+      node_test_system("bvh-pc-tr",
+                       "binary BVH of one object per leaf, plane coherency and translation/rotation coherency "
+                       "(TR only while the camera translates or turns about one axis, the projection unchanged)",
+                       "Assarsson & Möller 2000, §3.2 and §3.5", HierarchyTest::pc_tr),
+      node_test_system("bvh-pc-octant-tr", "binary BVH of one object per leaf, plane coherency, octant and TR coherency",
+                       "Assarsson & Möller 2000, §3.2, §3.3 and §3.5", HierarchyTest::pc_octant_tr),
   };
 }
 

@@ -63,6 +63,13 @@ struct Hierarchy {
   Bvh bvh;
   VisibleSet previous, cached;
   bool have_cache = false, moved_since_cache = false, have_previous = false;
+  // A node's TR offset: the plane that rejected it, its normal, offset and the p-vertex value then.
+  struct TrOffset {
+    int plane = -1;
+    glm::vec3 n{0.0f};
+    float d = 0.0f, p_value = 0.0f;
+  };
+  std::vector<TrOffset> tr;
   glm::vec3 cache_eye{0.0f};
   glm::mat4 cache_clip{1.0f};
   DepthConvention cache_depth;
@@ -74,7 +81,10 @@ struct Hierarchy {
       boxes.push_back(bounds(o));
     }
     bvh = build_bvh(boxes, 4);
+    tr.assign(bvh.nodes.size(), TrOffset{});
   }
+
+  bool tr_mode() const { return m.tr_offsets || m.kind == SystemBug::tr_unchecked; }
 
   Aabb bounds(const SceneObject& o) const {
     if (m.kind == SystemBug::unscaled_instances) return from_local(o, false);
@@ -91,7 +101,11 @@ struct Hierarchy {
     for (const SceneObject& o : moved) boxes.at(position.at(o.id)) = bounds(o);
     moved_since_cache = true;
     if (m.kind != SystemBug::no_refit) {
+      std::vector<Aabb> before(bvh.nodes.size());
+      for (std::size_t k = 0; k < before.size(); ++k) before[k] = bvh.nodes[k].box;
       refit_bvh(bvh, boxes);
+      for (std::size_t k = 0; k < before.size(); ++k)  // a node whose box changed recomputes its offset
+        if (std::memcmp(&before[k], &bvh.nodes[k].box, sizeof(Aabb)) != 0) tr[k] = TrOffset{};
       return;
     }
     // The bug: the leaves see the new boxes, their ancestors keep the old ones.
@@ -107,12 +121,17 @@ struct Hierarchy {
 
   // n/p-vertex test of the planes in `mask` (A&M 2000 §3.1, §3.4): false when one rejects the box;
   // clears the bits of the planes the box is inside.
-  static bool accept(const Frustum& f, const Aabb& b, std::uint32_t& mask) {
+  // `rejected`, when given, gets the plane that rejected the box with its p-vertex value.
+  static bool accept(const Frustum& f, const Aabb& b, std::uint32_t& mask, TrOffset* rejected = nullptr) {
     for (int i = 0; i < 6; ++i) {
       if (!(mask >> i & 1u)) continue;
       const Plane& p = f[i];
       const glm::vec3 pv(p.n.x > 0 ? b.max.x : b.min.x, p.n.y > 0 ? b.max.y : b.min.y, p.n.z > 0 ? b.max.z : b.min.z);
-      if (p.eval(pv) < 0.0f) return false;
+      const float value = p.eval(pv);
+      if (value < 0.0f) {
+        if (rejected) *rejected = TrOffset{i, p.n, p.d, value};
+        return false;
+      }
       const glm::vec3 nv(p.n.x > 0 ? b.min.x : b.max.x, p.n.y > 0 ? b.min.y : b.max.y, p.n.z > 0 ? b.min.z : b.max.z);
       if (!(p.eval(nv) < 0.0f)) mask &= ~(1u << i);
     }
@@ -120,9 +139,26 @@ struct Hierarchy {
   }
 
   // Visits node `i` with the planes of `mask` still to test; returns the mask its own test left.
-  std::uint32_t visit(const Frustum& f, std::uint32_t i, std::uint32_t mask, VisibleSet& out) const {
+  // TR translation coherency: a node's cached rejection still holds while the plane's offset has
+  // not carried its p-vertex across (the p-vertex depends on the normal alone).
+  bool still_rejected(const Frustum& f, std::uint32_t i, std::uint32_t mask) {
+    TrOffset& e = tr[i];
+    if (e.plane < 0 || !(mask >> e.plane & 1u)) return false;
+    const Plane& p = f[e.plane];
+    const bool normal_same = std::memcmp(&p.n, &e.n, sizeof p.n) == 0;
+    if (!normal_same && m.kind != SystemBug::tr_unchecked) return false;
+    return e.p_value + (p.d - e.d) < 0.0f;
+  }
+
+  std::uint32_t visit(const Frustum& f, std::uint32_t i, std::uint32_t mask, VisibleSet& out) {
     const BvhNode& n = bvh.nodes[i];
-    if (!accept(f, n.box, mask)) return mask;
+    if (tr_mode()) {
+      if (still_rejected(f, i, mask)) return mask;
+      tr[i] = TrOffset{};
+      if (!accept(f, n.box, mask, &tr[i])) return mask;
+    } else if (!accept(f, n.box, mask)) {
+      return mask;
+    }
     if (mask == 0) {
       const auto [first, last] = bvh.subtree_prims[i];
       for (std::uint32_t k = first; k < last; ++k) out.indices.push_back(bvh.prim_order[k]), out.verdicts.push_back(Visibility::inside);
@@ -203,6 +239,9 @@ const std::vector<SystemMutant>& system_mutants() {
        SystemBug::cache_keyed_on_eye},
       {"hier-ortho-rebuilt", "an orthographic camera's frustum rebuilt from perspective parameters",
        SystemBug::perspective_rebuilt},
+      {"hier-tr-offsets", "", SystemBug::none, B::world, false, true},
+      {"hier-tr-across-cuts", "TR offsets kept across turns and cuts (the plane normals not compared)",
+       SystemBug::tr_unchecked},
   };
   return all;
 }

@@ -21,6 +21,7 @@ enum class SystemBug {
   half_nearest,        ///< bounds stored in half precision rounded to nearest (a radius shrinks)
   cache_keyed_on_eye,  ///< last frame's set reused while the eye has not moved (turns, zooms, cuts kept)
   perspective_rebuilt, ///< an orthographic camera's frustum rebuilt from perspective parameters
+  tr_unchecked,        ///< TR offsets kept across turns and cuts (the plane normals not compared)
 };
 
 /// One system of the mutation table: a mutant, or a control (a correct system through the same
@@ -32,6 +33,11 @@ struct SystemMutant {
   /// For the bounds variants: how the control builds its bounds (see make_system_mutant).
   enum class Bounds { world, local, half_outward } bounds = Bounds::world;
   bool matrix_keyed_cache = false;  ///< the control of cache_keyed_on_eye
+  /// Translation coherency (Assarsson & Möller 2000, §3.5): a node rejected by a plane keeps that
+  /// plane's p-vertex value and offset, and while the plane's normal is unchanged (the camera only
+  /// translated) the node stays rejected until the offset has moved it across. The control of
+  /// tr_unchecked.
+  bool tr_offsets = false;
   bool control() const noexcept { return kind == SystemBug::none; }
 };
 

@@ -10,7 +10,9 @@
 #include "cullproof/gen/arbitrary.hpp"
 #include "cullproof/oracle/oracle.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <variant>
 #include <string>
 
 namespace cullproof::oracle::test {
@@ -46,6 +48,19 @@ bool right(const CaseFrustum& g, const Volume& v, Visibility verdict, VerdictShi
   return t == verdict;
 }
 
+// A ball's depth is searched in double at the ball's own magnitude (oracle.hpp: a certified lower
+// bound, not within 2^-50 as a box's is): for a ball far larger than the frustum the values meet
+// the frustum as differences of numbers near |c| + r, and the search keeps what double keeps of
+// those (units in the 50th bit or so of |c| + r). Tightness is asserted only where that is far
+// below the margin tested; the lower bound always.
+bool tight_enough(const Volume& v, double distance) {
+  const auto* s = std::get_if<Sphere>(&v);
+  if (!s) return true;
+  const double magnitude = std::max({std::abs(double(s->center.x)), std::abs(double(s->center.y)),
+                                     std::abs(double(s->center.z))}) + double(s->radius);
+  return magnitude * 0x1p-45 < kMargin * distance;
+}
+
 void check(const gen::GenCase& c) {
   if (c.frustum.matrix) return;
   for (Visibility verdict : {Visibility::outside, Visibility::intersecting, Visibility::inside}) {
@@ -58,7 +73,7 @@ void check(const gen::GenCase& c) {
     if (!less || !more) continue;
     RC_TAG(std::string(to_string(d.shift)));
     RC_ASSERT(!right(*less, c.volume, verdict, d.shift));  // a lower bound: not right before it
-    RC_ASSERT(right(*more, c.volume, verdict, d.shift));   // and tight: right just after it
+    if (tight_enough(c.volume, d.distance)) RC_ASSERT(right(*more, c.volume, verdict, d.shift));  // and tight
   }
 }
 

@@ -7,6 +7,7 @@
 #include "cullproof/gtest/gtest.hpp"
 #include "cullproof/oracle/oracle.hpp"
 #include "cullproof/scenes/scenes.hpp"
+#include "cullproof/systems/hierarchy.hpp"
 #include "cullproof/systems/system.hpp"
 
 #include <gtest/gtest.h>
@@ -181,7 +182,7 @@ TEST(SceneFamilies, InstancesWorldIsTheTransformedLocalVolume) {
 // The truths decided down the hierarchy are the oracle's, object by object, on every family with
 // its moves, in fewer oracle decisions.
 TEST(SceneTruths, EqualTheOracleObjectByObject) {
-  std::uint64_t calls = 0, object_frames = 0;
+  std::uint64_t calls = 0, exact = 0, object_frames = 0;
   for (const std::string& family : scenes::parse_families("all"))
     for (std::uint64_t i = 0; i < 3; ++i) {
       const scenes::SceneRun run = scenes::draw_run(family, 4, i, {400, 6});
@@ -199,9 +200,12 @@ TEST(SceneTruths, EqualTheOracleObjectByObject) {
         object_frames += world.size();
       }
       calls += truths.oracle_calls();
+      exact += truths.exact_decisions();
     }
-  EXPECT_LT(calls, object_frames) << "the hierarchy decided nothing in bulk";
+  EXPECT_LT(calls + exact, object_frames) << "the hierarchy decided nothing in bulk";
+  EXPECT_GT(exact, 0u) << "the exact-certified cascade decided nothing";
   RecordProperty("oracle_calls", std::to_string(calls));
+  RecordProperty("exact_decisions", std::to_string(exact));
   RecordProperty("object_frames", std::to_string(object_frames));
 }
 
@@ -334,6 +338,44 @@ TEST(SystemRecords, AFailingRunShrinksAndItsRecordReplays) {
 
 TEST(BuiltinSystems, HoldTheirClaimsOnEveryFamily) {
   for (const System& s : builtin_systems()) EXPECT_TRUE(cullproof::testing::system_holds(s, in_temp())) << s.name;
+}
+
+// The coherent node tests are exercised, not bypassed, by the scene runs: TR coherency decides
+// frames where the camera translates or turns, and never one after a cut, a zoom or a change of
+// projection; the octant test decides frames of symmetric bounded frusta and never an off-axis one.
+TEST(BuiltinSystems, CoherentNodeTestsDecideOnlyWhereValid) {
+  std::map<std::string, int> tr_by_event, frames_by_event;
+  int octant_frames = 0;
+  for (const scenes::FamilyInfo& fam : scenes::families())
+    for (std::uint64_t index = 0; index < 6; ++index) {
+      const scenes::SceneRun run = scenes::draw_run(fam.name, 1, index);
+      std::vector<Aabb> boxes;
+      for (const SceneObject& o : run.scene.objects) boxes.push_back(enclosing_box(o.world));
+      Bvh bvh = build_bvh(boxes, 1);
+      HierarchyCuller tr(HierarchyTest::pc_octant_tr, bvh);
+      VisibleSet out;
+      std::map<std::uint32_t, std::size_t> position;
+      for (std::size_t k = 0; k < run.scene.objects.size(); ++k) position[run.scene.objects[k].id] = k;
+      for (const scenes::RunFrame& f : run.frames) {
+        for (const SceneObject& o : f.moved) boxes[position.at(o.id)] = enclosing_box(o.world);
+        if (!f.moved.empty()) {
+          refit_bvh(bvh, boxes);
+          tr.reset();  // every cache dropped: the stricter case of moved()
+        }
+        tr.cull(f.view, out);
+        ++frames_by_event[f.camera];
+        tr_by_event[f.camera] += tr.frame().tr_used;
+        octant_frames += tr.frame().octant_used;
+        if (tr.frame().octant_used) {
+          double d1 = 0.0;
+          EXPECT_EQ(octant_decision(f.view.projection, f.view.frustum.depth, &d1), "");
+        }
+      }
+    }
+  for (const char* never : {"first", "cut", "zoom", "projection"}) EXPECT_EQ(tr_by_event[never], 0) << never;
+  EXPECT_GT(tr_by_event["translate"], 0);
+  EXPECT_GT(tr_by_event["turn"] + tr_by_event["roll"], 0);
+  EXPECT_GT(octant_frames, 0);
 }
 
 // A system that returns nothing (every object outside) is refuted: the families show visible

@@ -36,12 +36,15 @@ struct Builder {
     return b;
   }
 
+  // A node's box is the exact min/max of its primitives' boxes: a leaf's computed from them, an
+  // interior node's as the union of its children's (the same values, min and max being exact).
   void build(std::uint32_t first, std::uint32_t last) {
     const std::uint32_t index = static_cast<std::uint32_t>(bvh.nodes.size());
-    bvh.nodes.push_back(BvhNode{bounds(first, last), 0, 0});
+    bvh.nodes.push_back(BvhNode{Aabb{}, 0, 0});
     bvh.subtree_prims.push_back({first, last});
     const std::uint32_t n = last - first;
     if (n <= leaf_size) {
+      bvh.nodes[index].box = bounds(first, last);
       bvh.nodes[index].right_or_first = first;
       bvh.nodes[index].count = n;
       return;
@@ -50,8 +53,12 @@ struct Builder {
     auto* base = bvh.prim_order.data();
     median_split(base + first, base + last, n / 2, [&](std::uint32_t k) -> const glm::vec3& { return centroids[k]; });
     build(first, mid);
-    bvh.nodes[index].right_or_first = static_cast<std::uint32_t>(bvh.nodes.size());
+    const std::uint32_t right = static_cast<std::uint32_t>(bvh.nodes.size());
+    bvh.nodes[index].right_or_first = right;
     build(mid, last);
+    const Aabb& a = bvh.nodes[index + 1].box;
+    const Aabb& b = bvh.nodes[right].box;
+    bvh.nodes[index].box = Aabb{glm::min(a.min, b.min), glm::max(a.max, b.max)};
   }
 };
 

@@ -153,7 +153,10 @@ enum class VerdictShift : std::uint8_t { none, to_outside, to_inside, to_meeting
 /// protrusion and clearance likewise; the depth is certified by a point of the ball (a lower
 /// bound on the depth) or by multipliers λ ≥ 0 (Σ λ_j s_j over the ball bounds it from above),
 /// both evaluated in exact numbers and interval arithmetic. For boxes, OBBs and points the bound
-/// lies within a relative 2^-50 of the exact distance.
+/// lies within a relative 2^-50 of the exact distance. A ball's point is searched in double at the
+/// ball's magnitude, so for a ball far larger than the frustum the bound may lie below the
+/// distance by what double loses of |c| + r (a few units in its 50th bit), far less than any
+/// rounding allowance of the case.
 struct VerdictDistance {
   double distance = 0.0;  ///< 0 when the verdict is the truth; +infinity when no shift helps
   VerdictShift shift = VerdictShift::none;

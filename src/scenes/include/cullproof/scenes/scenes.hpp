@@ -42,7 +42,8 @@ struct RunFrame {
   std::vector<SceneObject> moved;
   /// What the camera did since the previous frame: "first", "still", "translate", "turn", "roll",
   /// "zoom", "cut" (another place and direction), "projection" (another projection kind), "eye"
-  /// (the other eye of a stereo pair).
+  /// (the other eye of a stereo pair); in a real-mesh scene's run also "general" (the camera
+  /// moved and turned at once).
   std::string camera;
 };
 
@@ -113,7 +114,8 @@ struct RunJudgement {
   std::optional<Finding> first_broken, first_error;
   double cull_seconds = 0.0;  ///< build, updates and culls
   double judge_seconds = 0.0;  ///< the exact truth of every object-frame
-  std::uint64_t oracle_calls = 0;  ///< the object-frames the oracle decided (the others were proved certified)
+  std::uint64_t oracle_calls = 0;  ///< the object-frames the oracle decided
+  std::uint64_t exact_decisions = 0;  ///< those the exact-certified cascade decided (the others were proved certified)
 };
 
 /// The exact truth of every object of a scene against a frustum, decided down a hierarchy: a BVH
@@ -122,10 +124,12 @@ struct RunJudgement {
 /// objects, one it proves outside only outside ones (each object lies in its enclosing box, the
 /// box in its node's: closed sets); the objects of the other leaves are proved by the certified
 /// test of their kind, and those it leaves undecided (it answers `intersecting`: near the
-/// boundary, or truly intersecting) are decided by the exact oracle. The certified tests never
-/// give a false reject or a false inside, rounding and the plane extraction from the matrix
-/// included (docs/certified.md), so `outside` and `inside` from them are proofs. The same truths
-/// as oracle::truth object by object; the oracle decides only near the boundary.
+/// boundary, or truly intersecting) are decided by the exact-certified cascade (spheres, boxes
+/// and OBBs: its verdict is the exact truth, docs/exact-culling.md) or, for points and volumes
+/// with a value past float's range, by the exact oracle. The certified tests never give a false
+/// reject or a false inside, rounding and the plane extraction from the matrix included
+/// (docs/certified.md), so `outside` and `inside` from them are proofs. The same truths as
+/// oracle::truth object by object (tests/systems, SceneTruths.EqualTheOracleObjectByObject).
 class SceneTruths {
  public:
   explicit SceneTruths(std::vector<Volume> world);
@@ -134,18 +138,22 @@ class SceneTruths {
   /// truth[i] for object i.
   void decide(const CaseFrustum& f, std::vector<Visibility>& truth);
   const std::vector<Volume>& world() const noexcept { return world_; }
-  /// Decisions made so far: by the oracle, and certified tests of node boxes and objects.
+  /// Decisions made so far: by the oracle, by the exact-certified cascade, and certified tests of
+  /// node boxes and objects.
   std::uint64_t oracle_calls() const noexcept { return calls_; }
+  std::uint64_t exact_decisions() const noexcept { return exact_; }
   std::uint64_t certified_tests() const noexcept { return certified_; }
 
  private:
-  void visit(const CertifiedFrustum& cf, const CaseFrustum& f, std::uint32_t node, std::vector<Visibility>& truth);
+  struct Frame;
+  Visibility exact(Frame& frame, const Volume& v);
+  void visit(const CertifiedFrustum& cf, Frame& frame, std::uint32_t node, std::vector<Visibility>& truth);
   void fill(std::uint32_t node, Visibility v, std::vector<Visibility>& truth) const;
   std::vector<Volume> world_;
   std::vector<Aabb> boxes_;
   Bvh bvh_;
   bool stale_ = false;
-  std::uint64_t calls_ = 0, certified_ = 0;
+  std::uint64_t calls_ = 0, exact_ = 0, certified_ = 0;
 };
 
 /// Runs `system` over `run` (build, then per frame update and cull) and judges every object of
@@ -165,6 +173,9 @@ struct VerifyRuns {
   RunSize size;
   std::vector<std::string> families = parse_families("all");
   std::optional<std::uint64_t> only_index;
+  /// Runs given whole (the real-mesh scenes, cullproof/sim/scene.hpp mesh_scene_run): judged
+  /// after the drawn families, each tallied as a family of its own (its run's family).
+  std::vector<SceneRun> given;
 };
 
 /// A system over one family's runs.

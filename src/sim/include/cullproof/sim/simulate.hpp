@@ -2,21 +2,13 @@
 // enabled only when the scene keeps it valid, every configuration's visible set checked against
 // the exact oracle, and the reproduction of Assarsson & Möller 2000, Table 1.
 //
-// Configurations (stable kebab-case names, used in CSV/JSON and the corpus):
-//   perspective-transform  the DirectModel baseline (A&M §2): cull.hpp perspective_transform
-//   basic-np               n/p-vertex test, 6 planes per node (A&M §3.1)
-//   pc-octant              plane coherency (§3.2) + octant test (§3.3, the corrected variant);
-//                          plane coherency alone when the frustum is not symmetric
-//   pc-tr                  plane coherency + TR coherency (§3.5, TrCoherencyCuller)
-//   pc-octant-tr           plane coherency + octant + TR coherency
-//   masking                plane masking (§3.4, Bishop et al.): children skip the planes their
-//                          parent is inside
-//   lib-bvh-plain, lib-bvh-masked, lib-bvh-coherent
-//                          cull_bvh.hpp's traversals on the same hierarchy (verified, not timed)
-// Every hierarchical configuration accepts a subtree without tests when a node is inside.
+// Configurations: the tests of the hierarchy culler (cullproof/systems/hierarchy.hpp), the same
+// culling stack as cullproof's node-test systems; lib-bvh-* (cull_bvh.hpp's traversals on the same
+// hierarchy) are verified, not timed.
 #pragma once
 
 #include "cullproof/sim/scene.hpp"
+#include "cullproof/systems/hierarchy.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -28,20 +20,10 @@
 
 namespace cullproof::sim {
 
-enum class Config : int {
-  perspective_transform,
-  basic_np,
-  pc_octant,
-  pc_tr,
-  pc_octant_tr,
-  masking,
-  lib_bvh_plain,
-  lib_bvh_masked,
-  lib_bvh_coherent,
-};
-inline constexpr int kConfigCount = 9;
-/// The stable name ("pc-octant-tr", ...).
-std::string_view to_string(Config c) noexcept;
+/// A configuration is one of the hierarchy culler's tests (cullproof/systems/hierarchy.hpp);
+/// to_string gives its stable name.
+using Config = HierarchyTest;
+inline constexpr int kConfigCount = kHierarchyTestCount;
 
 /// Options of `cullproof simulate`.
 struct SimulateOptions {

@@ -106,7 +106,9 @@ class System : public SystemInfo {
 };
 
 /// cullproof's own systems, in a stable order: the BVHs of the fast family over the objects'
-/// enclosing boxes (plain, masked, plane-coherent, 4- and 8-wide masked) and a flat loop.
+/// enclosing boxes (plain, masked, plane-coherent, 4- and 8-wide masked), a flat loop, and the
+/// hierarchy culler's coherent node tests (plane coherency with the octant test, with TR
+/// coherency, with both: cullproof/systems/hierarchy.hpp).
 const std::vector<System>& builtin_systems();
 /// The built-in systems with these names, in this order; all when `names` is empty. Throws
 /// std::invalid_argument naming an unknown name and listing the known ones.
