@@ -8,6 +8,7 @@
 #include "cullproof/systems/system.hpp"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cstdint>
 #include <string>
@@ -109,6 +110,7 @@ struct ReportCommand {
   std::string out = "report.html";  ///< the page
   std::string json;                 ///< where the run's JSON goes as well (when report runs it)
   std::string corpus = "corpus";    ///< the corpus shown (and written by a run)
+  std::string systems;              ///< a `cullproof systems --json` result shown in its own section
   bool no_corpus = false;           ///< neither write nor show a corpus
   RunOptions run;                   ///< the run, when there is no --from
 };
@@ -144,6 +146,17 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
 /// system not among `systems`). Returns the number of records of known systems that no longer fail
 /// as recorded; `records` gets the number read.
 std::size_t replay_system_records(const std::string& dir, const std::vector<System>& systems, std::size_t& records);
+#ifdef CULLPROOF_HAVE_REPORT
+/// `corpus show ID --html FILE [--svg FILE] [--zoom-svg FILE]` for a system record: the page of the
+/// failing object-frame in 3D with the frame's other objects (report::system_html) and the
+/// drawings of its case. -1 when no record is named `id`; 0 when written; 2 with a message.
+int write_system_record_page(const std::string& dir, const std::string& id, const std::string& html_file,
+                             const std::string& svg_file, const std::string& zoom_svg_file);
+/// The views of every system record under <dir>/systems/ (faults aside) for the report's corpus
+/// section: each a case view (report::case_view_json) with the frame's other objects and the run.
+/// Throws what reading a record throws.
+nlohmann::json system_record_views(const std::string& dir);
+#endif
 /// Prints the system record whose file name (without .json) is `id`; false when there is none.
 bool show_system_record(const std::string& dir, const std::string& id);
 #endif

@@ -217,6 +217,9 @@ int run_corpus_command(const CorpusCommand& c, const ExternalProgram& external) 
       std::cerr << "cullproof corpus: --html, --svg and --zoom-svg are for show\n";
       return 2;
     }
+#ifdef CULLPROOF_HAVE_SCENES
+    if (const int r = write_system_record_page(c.dir, c.id, c.html, c.svg, c.zoom_svg); r >= 0) return r;
+#endif
     return report::write_case_files(c.dir, c.id, c.html, c.svg, c.zoom_svg);
   }
 #endif

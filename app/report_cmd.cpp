@@ -25,10 +25,10 @@ namespace {
 constexpr std::uintmax_t kMaxResultBytes = std::uintmax_t(256) << 20;
 constexpr int kMaxResultDepth = 16;
 
-nlohmann::json read_result(const std::string& file) {
-  const std::string text = read_file_limited(file, kMaxResultBytes, "a verify result");
+nlohmann::json read_result(const std::string& file, const char* what = "a verify result") {
+  const std::string text = read_file_limited(file, kMaxResultBytes, what);
   try {
-    return parse_json_limited(text, kMaxResultDepth, "a verify result");
+    return parse_json_limited(text, kMaxResultDepth, what);
   } catch (const nlohmann::json::parse_error& e) {
     throw ResultError(fmt::format("{} is not JSON: {}", file, e.what()));
   }
@@ -47,6 +47,10 @@ void add_report(CLI::App& app, ReportCommand& c) {
   c.cmd->add_option("--corpus", c.corpus, "The corpus the page shows in 3D (and where a run writes new mismatches)")
       ->capture_default_str();
   c.cmd->add_flag("--no-corpus", c.no_corpus, "Neither write nor show a corpus");
+#ifdef CULLPROOF_HAVE_SCENES
+  c.cmd->add_option("--systems", c.systems, "Add a section for culling systems from FILE (cullproof systems --json FILE)")
+      ->check(CLI::ExistingFile);
+#endif
   c.run.add_options(c.cmd, "Run: ");
 }
 
@@ -58,6 +62,11 @@ int run_report_command(const ReportCommand& o) {
     nlohmann::json result;
     PageInputs in;
     bool failed = false;
+    if (!o.systems.empty()) {  // refused before a run is made
+      in.systems = read_result(o.systems, "a systems result");
+      in.systems_from = o.systems;
+      check_systems_result(in.systems);
+    }
     if (!o.from.empty()) {
       result = read_result(o.from);
       in.made_by = "cullproof report --from " + o.from;
@@ -74,6 +83,9 @@ int run_report_command(const ReportCommand& o) {
     if (!o.no_corpus && std::filesystem::is_directory(o.corpus)) {
       in.corpus_dir = o.corpus;
       for (const CorpusEntry& e : load_corpus(o.corpus)) in.corpus.push_back(case_view_json(e));
+#ifdef CULLPROOF_HAVE_SCENES
+      for (nlohmann::json& v : system_record_views(o.corpus)) in.corpus.push_back(std::move(v));  // systems' records
+#endif
     } else if (!o.no_corpus) {
       std::cerr << who << "no corpus section: " << o.corpus << " is not a folder (--corpus DIR, or --no-corpus)\n";
     }
@@ -90,7 +102,9 @@ int run_report_command(const ReportCommand& o) {
     std::cerr << who << e.what() << "\n";
     return 2;
   } catch (const ResultError& e) {
-    std::cerr << who << (o.from.empty() ? "" : o.from + ": ") << e.what() << "\n";
+    const bool systems = std::string(e.what()).rfind("systems: ", 0) == 0;
+    const std::string file = systems ? o.systems : o.from;
+    std::cerr << who << (file.empty() ? "" : file + ": ") << e.what() << "\n";
     return 2;
   } catch (const InputLimitError& e) {
     std::cerr << who << o.from << ": " << e.what() << "\n";

@@ -7,12 +7,18 @@
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/io/files.hpp"
 #include "cullproof/scenes/scenes.hpp"
-#include "cullproof/sim/scene.hpp"
+#include "cullproof/sim/scene_run.hpp"
+#include "cullproof/oracle/oracle.hpp"
+#ifdef CULLPROOF_HAVE_REPORT
+#include "cullproof/report/case_view.hpp"
+#include "cullproof/report/report.hpp"
+#endif
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <iostream>
 #include <limits>
@@ -282,5 +288,96 @@ bool show_system_record(const std::string& dir, const std::string& id) {
   }
   return false;
 }
+
+#ifdef CULLPROOF_HAVE_REPORT
+namespace {
+
+// A system record's failing object-frame as a corpus entry (the oracle's witness) and the view the
+// 3D viewer draws of it: the case, the frame's other objects, what the run was.
+struct RecordView {
+  CorpusEntry entry;
+  std::vector<Volume> others;
+  nlohmann::json system;
+};
+
+RecordView record_view(const std::filesystem::path& file) {
+  const scenes::SystemRecord rec = scenes::read_system_record(file);
+  const scenes::Finding& f = rec.failure;
+  const scenes::SceneRun& run = rec.run;
+  RecordView out;
+  CorpusEntry& e = out.entry;
+  e.file = file;
+  e.c = scenes::case_of(run, f.frame, f.object);
+  e.c.id = file.stem().string();
+  e.c.truth = f.truth;
+  e.method = rec.system;
+  e.verdict = f.verdict;
+  e.error = f.error;
+  e.distribution = run.family;
+  const oracle::Result truth = oracle::classify(e.c.frustum, e.c.volume);
+  const oracle::VerdictDistance vd = oracle::distance_to_verdict(e.c.frustum, e.c.volume, f.verdict);
+  const auto number = [](double d) { return std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(nullptr); };
+  e.c.extra = {{"claim", rec.record.value("claim", std::string())},
+               {"violates_claim", true},
+               {"reproduce", rec.record.value("reproduce", std::string())},
+               {"distance", number(truth.distance)},
+               {"distance_kind", std::string(oracle::to_string(truth.distance_kind))},
+               {"verdict_distance", number(vd.distance)},
+               {"verdict_distance_kind", std::string(oracle::to_string(vd.shift))},
+               {"witness", oracle::to_json(truth.witness)}};
+  for (std::size_t k = 0; k < run.scene.objects.size(); ++k)  // as they are on that frame
+    if (k != f.object) out.others.push_back(scenes::case_of(run, f.frame, k).volume);
+  out.system = {{"name", rec.system},           {"claim", rec.record.value("claim", std::string())},
+                {"family", run.family},         {"index", run.index},
+                {"seed", run.seed},             {"objects", run.scene.objects.size()},
+                {"frames", run.frames.size()},  {"motion", run.motion},
+                {"frame", f.frame},             {"camera", run.frames.at(f.frame).camera},
+                {"object", f.id}};
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json system_record_views(const std::string& dir) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::filesystem::path& file : system_record_files(dir)) {
+    const RecordView r = record_view(file);
+    nlohmann::json view = report::case_view_json(r.entry);
+    view["others"] = nlohmann::json::array();
+    for (const Volume& v : r.others) view["others"].push_back(report::volume_view_json(v));
+    view["system"] = r.system;
+    out.push_back(std::move(view));
+  }
+  return out;
+}
+
+int write_system_record_page(const std::string& dir, const std::string& id, const std::string& html_file,
+                             const std::string& svg_file, const std::string& zoom_svg_file) {
+  for (const std::filesystem::path& file : system_record_files(dir)) {
+    if (file.stem() != id) continue;
+    try {
+      const RecordView r = record_view(file);
+      const nlohmann::json view = report::case_view_json(r.entry);
+      if (!html_file.empty()) {
+        write_file_atomic(html_file, report::system_html(id, r.entry, r.others, r.system, report::load_web_asset("case.js")));
+        std::cout << "page: " << html_file << "\n";
+      }
+      if (!svg_file.empty()) {
+        write_file_atomic(svg_file, report::case_svg(view, false));
+        std::cout << "drawing: " << svg_file << "\n";
+      }
+      if (!zoom_svg_file.empty()) {
+        write_file_atomic(zoom_svg_file, report::case_svg(view, true));
+        std::cout << "drawing, magnified around the error: " << zoom_svg_file << "\n";
+      }
+      return 0;
+    } catch (const std::exception& ex) {
+      std::cerr << "cullproof corpus show: " << file.string() << ": " << ex.what() << "\n";
+      return 2;
+    }
+  }
+  return -1;
+}
+#endif
 
 }  // namespace cullproof::app

@@ -354,21 +354,41 @@ json case_view_json(const CorpusEntry& e) {
           {"volume_text", format_volume(c.volume)}};
 }
 
-std::string case_html(const CorpusEntry& e, const std::string& case_js) {
-  const json view = case_view_json(e);
+namespace {
+
+// The page around a view: a title, a note, the 3D view, the case as text, and the data and script.
+std::string view_page(const std::string& title, const std::string& note, const std::string& case_text,
+                      const json& view, const std::string& case_js) {
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  h += fmt::format("<title>{} — cullproof corpus</title>\n", html_escape(e.c.id));
+  h += fmt::format("<title>{} — cullproof corpus</title>\n", html_escape(title));
   h += "<style>body { font: 14px/1.45 system-ui, sans-serif; margin: 0 auto; max-width: 1280px; padding: 0 24px 32px; color: #1a1a1a; }"
        " h1 { font-size: 20px; margin: 18px 0 4px; } code, pre { font: 12px ui-monospace, monospace; }"
        " pre { background: #f6f6f6; padding: 8px; overflow-x: auto; white-space: pre-wrap; word-break: break-all; }</style>\n";
   h += "</head>\n<body>\n";
-  h += fmt::format("<h1>{}</h1>\n<p>{}</p>\n<div id=\"case-view\"></div>\n", html_escape(e.c.id), html_escape(e.c.note));
-  h += fmt::format("<h2 style=\"font-size:15px\">The case</h2>\n<pre>{}</pre>\n", html_escape(format_case(e.c, true)));
+  h += fmt::format("<h1>{}</h1>\n<p>{}</p>\n<div id=\"case-view\"></div>\n", html_escape(title), html_escape(note));
+  h += fmt::format("<h2 style=\"font-size:15px\">The case</h2>\n<pre>{}</pre>\n", html_escape(case_text));
   h += "<script type=\"application/json\" id=\"cullproof-data\">" + script_json({{"case", view}}) + "</script>\n";
   h += "<script>" + script_text(case_js) + "</script>\n</body>\n</html>\n";
   return h;
+}
+
+}  // namespace
+
+std::string case_html(const CorpusEntry& e, const std::string& case_js) {
+  return view_page(e.c.id, e.c.note, format_case(e.c, true), case_view_json(e), case_js);
+}
+
+json volume_view_json(const Volume& v) { return volume_json(v); }
+
+std::string system_html(const std::string& title, const CorpusEntry& failing, const std::vector<Volume>& others,
+                        const nlohmann::json& system, const std::string& case_js) {
+  json view = case_view_json(failing);
+  view["others"] = json::array();
+  for (const Volume& v : others) view["others"].push_back(volume_json(v));
+  view["system"] = system;
+  return view_page(title, failing.c.note, format_case(failing.c, true), view, case_js);
 }
 
 int write_case_files(const std::filesystem::path& dir, const std::string& id, const std::string& html_file,

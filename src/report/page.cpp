@@ -6,11 +6,14 @@
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/io/limits.hpp"
 
+#include "cullproof/campaign/campaign.hpp"
+
 #include "show.hpp"
 
 #include <fmt/format.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <set>
 #include <system_error>
 
@@ -41,6 +44,80 @@ th { font-weight: 600; color: #444; } td.num { text-align: right; font-variant-n
 a.case-link { font: 12px ui-monospace, monospace; margin-right: 6px; white-space: nowrap; }
 #broken-claims td:nth-child(6) { max-width: 520px; }
 )css";
+
+// A field of the systems' JSON (`cullproof systems --json`), or a ResultError naming where.
+const json& field(const json& obj, const char* key, const std::string& where) {
+  if (!obj.is_object() || !obj.contains(key)) throw ResultError(fmt::format("systems: {} has no field \"{}\"", where, key));
+  return obj[key];
+}
+std::uint64_t count(const json& obj, const char* key, const std::string& where) {
+  const json& v = field(obj, key, where);
+  if (!v.is_number_unsigned()) throw ResultError(fmt::format("systems: {}.{} is not a count", where, key));
+  return v.get<std::uint64_t>();
+}
+double seconds(const json& obj, const char* key, const std::string& where) {
+  const json& v = field(obj, key, where);
+  if (!v.is_number() || v.get<double>() < 0) throw ResultError(fmt::format("systems: {}.{} is not a duration", where, key));
+  return v.get<double>();
+}
+std::string text(const json& obj, const char* key, const std::string& where) {
+  const json& v = field(obj, key, where);
+  if (!v.is_string()) throw ResultError(fmt::format("systems: {}.{} is not a string", where, key));
+  return v.get<std::string>();
+}
+
+// The culling systems' section: per system, per family, what `cullproof systems` printed.
+std::string systems_html(const json& js, const std::string& from, std::set<std::string>& shown_cases) {
+  const json& systems = field(js, "systems", "the result");
+  if (!systems.is_array()) throw ResultError("systems: the result's \"systems\" is not an array");
+  std::string h = fmt::format(
+      "<section id=\"systems\"><h2>Culling systems</h2>\n<p class=\"lead\">From <code>{}</code> (seed {}): each "
+      "system built over the scenes of each family, told which objects moved, culled frame by frame, and every object of "
+      "every frame judged exactly. Broken: object-frames that break the system's claim; the false-intersect rate is of "
+      "the object-frames truly outside, with its 95% Wilson interval; nanoseconds per object-frame culling (build, "
+      "updates, culls) and judging.</p>\n",
+      html_escape(from), count(js, "seed", "the result"));
+  for (std::size_t i = 0; i < systems.size(); ++i) {
+    const json& sys = systems[i];
+    const std::string where = fmt::format("systems[{}]", i);
+    const std::string name = text(sys, "system", where);
+    const std::uint64_t broken = count(sys, "claim_broken", where);
+    h += fmt::format("<h3>{} <span class=\"{}\">{}</span></h3>\n<p>{}, claim {}.</p>\n", html_escape(name),
+                     broken ? "refuted" : "held", broken ? "claim broken" : "claim held", html_escape(text(sys, "origin", where)),
+                     html_escape(text(sys, "claim", where)));
+    h += "<table class=\"systems-table\" data-system=\"" + html_escape(name) +
+         "\">\n<tr><th>family</th><th>runs</th><th>object-frames</th><th>broken</th><th>false rejects</th><th>false "
+         "insides</th><th>false-intersect %</th><th>cull ns</th><th>judge ns</th></tr>\n";
+    const json& fams = field(sys, "families", where);
+    if (!fams.is_array()) throw ResultError(fmt::format("systems: {}.families is not an array", where));
+    for (std::size_t k = 0; k < fams.size(); ++k) {
+      const json& f = fams[k];
+      const std::string w = fmt::format("{}.families[{}]", where, k);
+      const std::uint64_t judged = count(f, "object_frames", w), outside = count(f, "truth_outside", w),
+                          fi = count(f, "false_intersect", w), b = count(f, "claim_broken", w);
+      std::string rate = "-";
+      if (outside) {
+        const auto [lo, hi] = wilson95(fi, outside);
+        rate = fmt::format("{:.2f} [{:.2f}, {:.2f}]", 100.0 * double(fi) / double(outside), 100.0 * lo, 100.0 * hi);
+      }
+      const auto per = [&](double sec) { return judged ? fmt::format("{:.0f}", sec * 1e9 / double(judged)) : std::string("-"); };
+      h += fmt::format("<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num{}\">{}</td>"
+                       "<td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>"
+                       "<td class=\"num\">{}</td></tr>\n",
+                       html_escape(text(f, "family", w)), count(f, "runs", w), judged, b ? " refuted" : "", b,
+                       count(f, "false_reject", w), count(f, "false_inside", w), rate, per(seconds(f, "cull_seconds", w)),
+                       per(seconds(f, "judge_seconds", w)));
+    }
+    h += "</table>\n";
+    if (sys.contains("record")) {
+      const std::string record = text(sys, "record", where);
+      const std::string id = std::filesystem::path(record).stem().string();
+      h += fmt::format("<p>The record of its first failing run: <code>{}</code>{}.</p>\n", html_escape(record),
+                       shown_cases.count(id) ? fmt::format(" (<a class=\"case-link\" href=\"#case={}\">in 3D below</a>)", html_escape(id)) : "");
+    }
+  }
+  return h + "</section>\n";
+}
 
 std::string summary_html(const Summary& s, const std::set<std::string>& shown_cases) {
   std::string h;
@@ -160,6 +237,11 @@ std::string load_web_asset(const std::string& name) {
       name, looked.empty() ? "no folder" : looked));
 }
 
+void check_systems_result(const json& systems) {
+  std::set<std::string> none;
+  systems_html(systems, "", none);
+}
+
 std::string report_html(const json& verify, const PageInputs& in, const std::string& report_js) {
   const Summary s = summarize(verify);
   std::set<std::string> shown_cases;
@@ -206,6 +288,7 @@ std::string report_html(const json& verify, const PageInputs& in, const std::str
        "(the oracle's exact distance over the scene size), per method, by decade. Waste at 1e-7 is rounding; waste at "
        "1e-1 is a test too coarse for the geometry. Choose a family below the chart.</p>\n"
        "<div class=\"chart\" id=\"distances\"></div>\n</section>\n";
+  if (!in.systems.is_null()) h += systems_html(in.systems, in.systems_from, shown_cases);
   if (!in.corpus.empty())
     h += fmt::format("<section id=\"corpus\"><h2>The corpus in 3D</h2>\n<p class=\"lead\">{} cases from <code>{}</code>.</p>\n"
                      "<div id=\"corpus-view\"></div>\n</section>\n",

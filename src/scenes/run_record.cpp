@@ -239,6 +239,17 @@ SystemRecord read_system_record(const std::filesystem::path& file) {
   };
   out.failure.verdict = verdict("verdict");
   out.failure.truth = verdict("truth");
+  const json& error = r.at(rec, "error", "");
+  bool known = false;
+  for (int c = 0; c < 5 && error.is_string(); ++c)
+    if (error.get<std::string>() == to_string(ErrorClass(c))) out.failure.error = ErrorClass(c), known = true;
+  if (!known) r.fail("error", "not an error class (correct, false-reject, false-inside, false-intersect, under-inside)");
+  if (out.failure.error != error_class(out.failure.verdict, out.failure.truth, true) &&
+      out.failure.error != error_class(out.failure.verdict, out.failure.truth, false))
+    r.fail("error", error.get<std::string>() + " is not the error of verdict " + std::string(to_string(out.failure.verdict)) +
+                        " where the truth is " + std::string(to_string(out.failure.truth)));
+  out.failure.breaks_claim = true;  // a record is written for an object-frame that broke the claim
+  if (rec.contains("distance") && rec["distance"].is_number()) out.failure.distance = rec["distance"].get<double>();
   out.record = std::move(rec);
   return out;
 }

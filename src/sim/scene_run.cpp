@@ -1,6 +1,6 @@
-// A real-mesh scene as a culling-system run (cullproof/sim/scene.hpp, mesh_scene_run): the
+// A real-mesh scene as a culling-system run (cullproof/sim/scene_run.hpp, mesh_scene_run): the
 // world's leaves as the scene's objects, its camera path as frames, its moving instances as moves.
-#include "cullproof/sim/scene.hpp"
+#include "cullproof/sim/scene_run.hpp"
 
 #include <algorithm>
 #include <unordered_map>

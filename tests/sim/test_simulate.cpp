@@ -1,5 +1,6 @@
 // The simulator: which optimisations it enables and why, exhaustive verification of small
 // scenes against the oracle, determinism.
+#include "cullproof/sim/scene_run.hpp"
 #include "cullproof/sim/simulate.hpp"
 #include "system_mutants.hpp"
 

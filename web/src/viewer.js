@@ -1,6 +1,7 @@
 // One corpus case in 3D (three.js): the frustum (its bounded part; dashed edges where the view cuts
 // an unbounded part), the volume, the oracle's witness (a point of both, or a separating plane), and
-// the plane that made the method err highlighted (src/report/case_view.cpp chooses it). Orbit and zoom
+// the plane that made the method err highlighted (src/report/case_view.cpp chooses it). For a
+// culling system's failure, the frame's other objects are drawn beside it in grey. Orbit and zoom
 // with the mouse; "zoom to the error" magnifies around the witness, where an error of a few ulps is
 // otherwise invisible, and says by how much.
 //
@@ -13,7 +14,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 const PLANE_NAMES = ['left', 'right', 'bottom', 'top', 'near', 'far'];
 const CUBE = 100; // an edge made by the view's cube, not by a plane bounding the frustum
 const VOLUME = 200; // an edge of the volume itself
-export const COLOURS = { frustum: 0x4292c6, edge: 0x08306b, fault: 0xe6ab02, volume: 0xd6604d, volumeEdge: 0xb2182b, witness: 0x1b9e77 };
+export const COLOURS = { frustum: 0x4292c6, edge: 0x08306b, fault: 0xe6ab02, volume: 0xd6604d, volumeEdge: 0xb2182b, witness: 0x1b9e77, other: 0x737373 };
 
 const evalPlane = (q, p) => q[0] * p[0] + q[1] * p[1] + q[2] * p[2] + q[3];
 const isDegenerate = (q) => q[0] === 0 && q[1] === 0 && q[2] === 0;
@@ -142,7 +143,7 @@ export class CaseViewer {
     this.camera = new THREE.PerspectiveCamera(35, width / height, 0.01, 100);
     this.controls = new OrbitControls(this.camera, this.canvas);
     this.controls.addEventListener('change', () => this.render());
-    this.layers = { frustum: new THREE.Group(), fault: new THREE.Group(), volume: new THREE.Group(), witness: new THREE.Group() };
+    this.layers = { frustum: new THREE.Group(), fault: new THREE.Group(), volume: new THREE.Group(), witness: new THREE.Group(), others: new THREE.Group() };
     for (const g of Object.values(this.layers)) this.scene.add(g);
 
     const button = (text, title, fn) => {
@@ -158,8 +159,10 @@ export class CaseViewer {
     button('×10', 'Magnify ten times more', () => this.magnify(10));
     button('÷10', 'Magnify ten times less', () => this.magnify(0.1));
     button('Reset view', 'Look from the default direction', () => this.resetCamera());
-    for (const [key, text] of [['frustum', 'frustum'], ['fault', 'plane at fault'], ['volume', 'volume'], ['witness', 'witness']]) {
+    this.toggles = {};
+    for (const [key, text] of [['frustum', 'frustum'], ['fault', 'plane at fault'], ['volume', 'volume'], ['witness', 'witness'], ['others', 'other objects']]) {
       const l = document.createElement('label');
+      this.toggles[key] = l;
       const c = document.createElement('input');
       c.type = 'checkbox';
       c.checked = true;
@@ -172,6 +175,7 @@ export class CaseViewer {
   /// Shows a case (a view from src/report/case_view.cpp), at scene scale.
   show(view) {
     this.view = view;
+    this.toggles.others.style.display = view.others && view.others.length ? '' : 'none';
     this.setMode('scene');
     this.resetCamera();
     this.describe();
@@ -337,6 +341,21 @@ export class CaseViewer {
       const away = this.toView(centre).some((x) => Math.abs(x) > 1);
       if (!away) this.layers.volume.add(this.marker(centre, COLOURS.volumeEdge, 6));
     }
+    // A culling system's other objects of the frame: edges (boxes), a patch (spheres), a dot (points).
+    for (const o of v.others || []) {
+      const oc = boxCorners(o);
+      if (oc) {
+        const polys = QUADS.map((q) => inCube(q.map((i) => ({ p: oc[i], edge: VOLUME })))).filter((p) => p.length);
+        const edges = [];
+        for (const p of polys) for (let i = 0; i < p.length; i++) if (p[i].edge === VOLUME) edges.push([p[i].p, p[(i + 1) % p.length].p]);
+        this.layers.others.add(this.lines(edges, new THREE.LineBasicMaterial({ color: COLOURS.other })));
+      } else if (o.kind === 'sphere') {
+        this.layers.others.add(this.spherePatch(o.center, o.radius,
+          new THREE.MeshLambertMaterial({ color: COLOURS.other, opacity: 0.25, transparent: true, side: THREE.DoubleSide, depthWrite: false })));
+      } else {
+        this.layers.others.add(this.marker(o.point, COLOURS.other, 6));
+      }
+    }
     // The witness.
     const w = v.witness;
     if (w.kind === 'point' && w.point) this.layers.witness.add(this.marker(w.point, COLOURS.witness, 11));
@@ -382,11 +401,16 @@ export class CaseViewer {
     const sw = (c) => `<span class="swatch" style="background:#${c.toString(16).padStart(6, '0')}"></span>`;
     const esc = (s) => String(s).replace(/[&<>"]/g, (ch) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[ch]);
     const far = v.planes[5];
+    const s = v.system;
     const rows = [
-      ['method', `<b>${esc(v.method)}</b> says <b>${esc(v.verdict)}</b>`],
+      ...(s ? [['system', `<b>${esc(s.name)}</b> (claim ${esc(s.claim)})`],
+        ['run', `${esc(s.family)} run ${s.index}, seed ${s.seed}: ${s.objects} object(s), ${s.frames} frame(s), moving: ${esc(s.motion)}`],
+        ['frame', `${s.frame} (camera: ${esc(s.camera)}); object ${s.object}`],
+        ['others', `${sw(COLOURS.other)}the frame's ${(v.others || []).length} other object(s)`]] : []),
+      [s ? 'the object' : 'method', `<b>${esc(v.method)}</b> says <b>${esc(v.verdict)}</b>`],
       ['truth', `${esc(v.truth)} (oracle)`],
       ['error', `${esc(v.class)}${v.violates_claim ? `: breaks its claim <b>${esc(v.claim)}</b>` : ` (claim ${esc(v.claim)}: within its allowance)`}`],
-      ['family', esc(v.family) + (v.on_path ? ' (on a camera path: the last frame)' : '')],
+      ...(s ? [] : [['family', esc(v.family) + (v.on_path ? ' (on a camera path: the last frame)' : '')]]),
       ['to the verdict', v.verdict_distance_kind ? `${fmt(v.verdict_distance)} (${esc(v.verdict_distance_kind)}); allowance ${v.allowance === null ? '-' : fmt(v.allowance)}` : v.backward_distance !== null ? `backward ${fmt(v.backward_distance)} (an older record)` : '-'],
       ['to the boundary', `${fmt(v.distance)} (${esc(v.distance_kind)})`],
       ['float-exact', v.float_exact ? 'yes: nothing rounds, no allowance' : 'no'],

@@ -11,10 +11,16 @@
 //  - the corpus section lists every case of the corpus (--corpus DIR) and its filters narrow the
 //    list; the 3D view of a case draws a canvas that is not blank, whose pixels change where the
 //    volume is when the volume is hidden, and "zoom to the error" says how much it magnifies;
-//  - the same for the page of one case (--case FILE, from `cullproof corpus show ID --html`).
+//  - the same for the page of one case (--case FILE, from `cullproof corpus show ID --html`);
+//  - the culling systems' section (--systems FILE, the `cullproof systems --json` the report was
+//    given): a table per system whose rows are its families, the broken counts as in the JSON;
+//  - the page of a culling system's failure (--system FILE, `corpus show NAME --html` for a system
+//    record): the same checks of its 3D view, the system named and its run described, and the
+//    frame's other objects drawn (pixels change when they are hidden) when the record has any.
 // Screenshots go to the shots folder (the page, the overall chart, the heat maps, the 3D views).
 //
-//   node check-report.mjs --report report.html --result verify.json --corpus DIR --case case.html --shots DIR
+//   node check-report.mjs --report report.html --result verify.json --corpus DIR --case case.html
+//                         --system system.html --shots DIR
 import { chromium } from 'playwright-core';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -26,6 +32,8 @@ const { values: opt } = parseArgs({
     result: { type: 'string' },
     corpus: { type: 'string' },
     case: { type: 'string' },
+    system: { type: 'string' },
+    systems: { type: 'string' },
     shots: { type: 'string' },
   },
 });
@@ -125,8 +133,10 @@ async function checkViewer(page, what, shots) {
   await page.evaluate(() => window.cullproof.viewer.setVisible('volume', false));
   const zoomedWithout = await canvasCounts(page, false);
   await page.evaluate(() => window.cullproof.viewer.setVisible('volume', true));
-  check(zoomedWithout.changed >= 200,
-    `${what}: magnified, the volume is drawn (${zoomedWithout.changed} pixels change when it is hidden)`);
+  // A point is a marker of a fixed size at any magnification.
+  const kind = await page.evaluate(() => window.cullproof.viewer.view.volume.kind);
+  check(zoomedWithout.changed >= (kind === 'point' ? 40 : 200),
+    `${what}: magnified, the volume (${kind}) is drawn (${zoomedWithout.changed} pixels change when it is hidden)`);
   await page.screenshot({ path: path.join(shots, `${what}-3d-zoomed.png`) });
   await page.evaluate(() => window.cullproof.viewer.setMode('scene'));
 }
@@ -138,6 +148,7 @@ function corpusFiles(dir) {
     const p = path.join(dir, e.name);
     if (e.isDirectory()) {
       if (e.name === 'scenes' || e.name.startsWith('scenes-')) continue;
+      if (e.name === 'faults' && path.basename(dir) === 'systems') continue;  // faults are not records
       out.push(...corpusFiles(p));
     } else if (e.name.endsWith('.json')) out.push(p);
   }
@@ -255,6 +266,26 @@ try {
     await page.locator('#corpus').scrollIntoViewIfNeeded();
     await checkViewer(page, 'report-corpus', opt.shots);
   }
+  if (opt.systems) {
+    const sys = JSON.parse(fs.readFileSync(opt.systems, 'utf8'));
+    const tables = await page.evaluate(() => [...document.querySelectorAll('#systems table.systems-table')].map((t) => ({
+      name: t.dataset.system,
+      rows: [...t.querySelectorAll('tr')].slice(1).map((r) => [...r.querySelectorAll('td')].map((d) => d.textContent)),
+    })));
+    check(tables.length === sys.systems.length, `the systems section has a table per system (${tables.length} of ${sys.systems.length})`);
+    for (const s of sys.systems) {
+      const t = tables.find((x) => x.name === s.system);
+      check(!!t, `the systems section has ${s.system}'s table`);
+      if (!t) continue;
+      check(t.rows.length === s.families.length, `${s.system}: a row per family (${t.rows.length} of ${s.families.length})`);
+      for (const f of s.families) {
+        const row = t.rows.find((r) => r[0] === f.family);
+        check(!!row && Number(row[2]) === f.object_frames && Number(row[3]) === f.claim_broken && Number(row[4]) === f.false_reject,
+          `${s.system}, ${f.family}: object-frames, broken and false rejects as in the JSON (${row ? row.join(' | ') : 'no row'})`);
+      }
+    }
+    await page.locator('#systems').screenshot({ path: path.join(opt.shots, 'report-systems.png') });
+  }
   await page.close();
 
   if (opt.case) {
@@ -263,9 +294,31 @@ try {
     await checkViewer(c.page, 'case', opt.shots);
     await c.page.close();
   }
+
+  if (opt.system) {
+    const c = await openPage(browser, opt.system);
+    check(c.problems.length === 0, `the system record's page loads cleanly: ${c.problems.join('; ')}`);
+    const sys = await c.page.evaluate(() => window.cullproof.viewer.view.system || null);
+    check(sys !== null, 'the system record\'s page describes its system');
+    if (sys) {
+      const info = await c.page.locator('.cv-info').innerText();
+      check(info.includes(sys.name) && info.includes(`${sys.family} run ${sys.index}`) && info.includes(`camera: ${sys.camera}`),
+        `the system record's page names the system, the run and the frame: "${info.slice(0, 200)}"`);
+    }
+    await checkViewer(c.page, 'system', opt.shots);
+    const others = await c.page.evaluate(() => (window.cullproof.viewer.view.others || []).length);
+    if (others > 0) {
+      await canvasCounts(c.page, true);
+      await c.page.evaluate(() => window.cullproof.viewer.setVisible('others', false));
+      const without = await canvasCounts(c.page, false);
+      await c.page.evaluate(() => window.cullproof.viewer.setVisible('others', true));
+      check(without.changed >= 20, `the system record's other objects are drawn (${without.changed} pixels change when they are hidden)`);
+    }
+    await c.page.close();
+  }
 } finally {
   await browser.close();
 }
 for (const f of failures) console.log(`FAILED: ${f}`);
-console.log(`pages (${opt.report}${opt.case ? `, ${opt.case}` : ''}): ${passed} passed, ${failures.length} failed; screenshots in ${opt.shots}`);
+console.log(`pages (${opt.report}${opt.case ? `, ${opt.case}` : ''}${opt.system ? `, ${opt.system}` : ''}): ${passed} passed, ${failures.length} failed; screenshots in ${opt.shots}`);
 process.exit(failures.length ? 1 : 0);

@@ -44,6 +44,16 @@ nlohmann::json case_view_json(const CorpusEntry& e);
 /// load_web_asset("case.js").
 std::string case_html(const CorpusEntry& e, const std::string& case_js);
 
+/// A volume as the viewer takes it ({"kind": "aabb", "min", "max"}, ...; exact float values).
+nlohmann::json volume_view_json(const Volume& v);
+
+/// The page of a culling system's failure in 3D (`cullproof corpus show NAME --html` for a
+/// system record): the failing object's case drawn as case_html draws it, the frame's other
+/// objects beside it, and `system` (name, claim, family, index, seed, objects, frames, motion,
+/// frame, camera, object) described. `case_js` is load_web_asset("case.js").
+std::string system_html(const std::string& title, const CorpusEntry& failing, const std::vector<Volume>& others,
+                        const nlohmann::json& system, const std::string& case_js);
+
 /// The three-view drawing of a case for documents (front: looking down -z; top: looking down -y;
 /// side: looking down -x), one SVG with the three side by side: the frustum's bounded part and
 /// where it leaves the drawing, the volume, the witness, the fault plane highlighted. `zoom`:

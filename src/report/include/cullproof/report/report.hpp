@@ -56,7 +56,15 @@ struct PageInputs {
   /// The corpus cases to show in 3D (case_view_json of each), empty for none.
   nlohmann::json corpus = nlohmann::json::array();
   std::string corpus_dir;  ///< where they were read from, shown with them
+  /// The results of `cullproof systems --json` (a section: a table per system), null for none;
+  /// a malformed one is refused with a ResultError naming the field.
+  nlohmann::json systems;
+  std::string systems_from;  ///< the file they were read from
 };
+
+/// Refuses a malformed `cullproof systems --json` result with a ResultError naming the field
+/// (what report_html would refuse), before a run is made or a page written.
+void check_systems_result(const nlohmann::json& systems);
 
 /// The whole page. Throws ResultError (cullproof/report/summary.hpp) for a malformed run.
 /// `report_js`: load_web_asset("report.js").

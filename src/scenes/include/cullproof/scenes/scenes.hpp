@@ -173,7 +173,7 @@ struct VerifyRuns {
   RunSize size;
   std::vector<std::string> families = parse_families("all");
   std::optional<std::uint64_t> only_index;
-  /// Runs given whole (the real-mesh scenes, cullproof/sim/scene.hpp mesh_scene_run): judged
+  /// Runs given whole (the real-mesh scenes, cullproof/sim/scene_run.hpp mesh_scene_run): judged
   /// after the drawn families, each tallied as a family of its own (its run's family).
   std::vector<SceneRun> given;
 };

@@ -13,7 +13,6 @@
 #include "cullproof/core/cull_bvh.hpp"
 #include "cullproof/core/frustum_build.hpp"
 #include "cullproof/core/geometry.hpp"
-#include "cullproof/scenes/scenes.hpp"
 #include "cullproof/systems/system.hpp"
 
 #include <nlohmann/json.hpp>
@@ -300,14 +299,5 @@ std::vector<View> frame_views(const ProjectionDesc& projection, const CameraFram
 /// A view as a culling system gets it (the planes, the clip matrix and its depth convention, the
 /// view and projection matrices, the pose).
 CullView cull_view(const View& view);
-
-/// The scene as a culling-system run (cullproof/scenes/scenes.hpp), judged as the generated
-/// families are: every leaf of the world (a box of a few triangles of one instance, or of the
-/// floor) is an object, its id the leaf's index and its volume the leaf's box; every view of every
-/// frame of the camera path is a frame (a stereo pair's second view is the event "eye"; a change
-/// of field of view "zoom", a move and turn at once "general"); the moving instances' leaves move.
-/// The run's family is "scene-" + the scene's name, its seed and index 0. Reads the meshes from
-/// `mesh_dir` (MeshError as build_world).
-scenes::SceneRun mesh_scene_run(const SceneDesc& scene, const std::filesystem::path& mesh_dir = default_mesh_dir());
 
 }  // namespace cullproof::sim
