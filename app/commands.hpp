@@ -137,7 +137,7 @@ struct SystemsCommand {
 void add_systems(CLI::App& app, SystemsCommand& c, ExternalProgram& external);
 /// Per system a table per family; 1 when the claim of an own or user system broke (its first
 /// failing run shrunk and recorded), 2 for bad input or a fault (the run it happened on recorded
-/// under <corpus>/systems/faults/).
+/// under <corpus>/systems/faults/; the faulted system stops, the others run to the end).
 int run_systems_command(const SystemsCommand& c, const ExternalProgram& external);
 
 /// The system records under <dir>/systems/ (the shrunk failing runs; faults/ aside) replayed with

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <iostream>
 #include <limits>
 
@@ -203,15 +204,40 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
                         {"frames", runs.size.frames}, {"scenes", c.scene_files}, {"systems", nlohmann::json::array()}};
   std::vector<std::string> broken_lines;
   bool failed = false;
+  std::vector<std::string> fault_lines;
   for (const System& s : systems) {
+    // Family by family (then each given scene), so that a fault stops this system only and keeps
+    // what it was judged on before.
     std::vector<scenes::FamilyTally> tallies;
-    try {
-      tallies = scenes::verify_system(s, runs);
-    } catch (const scenes::SystemFault& f) {
-      save_fault(c, s, f);
-      return 2;
+    std::optional<std::string> fault;
+    std::vector<scenes::VerifyRuns> parts;
+    for (const std::string& f : runs.families) {
+      scenes::VerifyRuns one = runs;
+      one.families = {f};
+      one.given.clear();
+      parts.push_back(std::move(one));
+    }
+    for (const scenes::SceneRun& g : runs.given) {
+      scenes::VerifyRuns one = runs;
+      one.families.clear();
+      one.given = {g};
+      parts.push_back(std::move(one));
+    }
+    for (const scenes::VerifyRuns& part : parts) {
+      try {
+        for (scenes::FamilyTally& t : scenes::verify_system(s, part)) tallies.push_back(std::move(t));
+      } catch (const scenes::SystemFault& f) {
+        save_fault(c, s, f);
+        fault = f.what();
+        break;
+      }
     }
     nlohmann::json js = print_tallies(s, tallies);
+    if (fault) {
+      fmt::print("  FAULT (the system stopped; the families above were judged before it): {}\n\n", *fault);
+      js["fault"] = *fault;
+      fault_lines.push_back(fmt::format("{} faulted: {}", s.name, *fault));
+    }
     const auto first = std::find_if(tallies.begin(), tallies.end(), [](const scenes::FamilyTally& t) { return t.broken.has_value(); });
     if (first != tallies.end()) {
       broken_lines.push_back(report_failure(c, s, runs, scene_file, *first, js));
@@ -219,10 +245,11 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
     }
     out["systems"].push_back(std::move(js));
   }
-  if (broken_lines.empty()) fmt::print("every system held its claim\n");
+  if (broken_lines.empty() && fault_lines.empty()) fmt::print("every system held its claim\n");
   for (const std::string& l : broken_lines) fmt::print("{}\n", l);
+  for (const std::string& l : fault_lines) fmt::print("{}\n", l);
   if (!c.json_file.empty()) write_file_atomic(c.json_file, out.dump(1) + "\n");
-  return failed ? 1 : 0;
+  return !fault_lines.empty() ? 2 : failed ? 1 : 0;
 }
 
 namespace {

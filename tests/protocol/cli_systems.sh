@@ -3,7 +3,8 @@
 #   holds    the adapter holds its claim: exit 0, "every system held its claim";
 #   refuted  its planted bug (drop-near): exit 1, the shrunk run recorded, a reproduce line that
 #            names the program;
-#   fault    it crashes on the scene message: exit 2, the fault named, the run saved.
+#   fault    it crashes on the scene message: exit 2, the fault named, the run saved; a built-in
+#            system run beside it is judged to the end and its table printed and in the JSON.
 set -uo pipefail
 cullproof=$1
 adapter=$2
@@ -43,10 +44,15 @@ case "$mode" in
     expect 0 "not replayed: system 'reference-flat' is not among those run here"
     ;;
   fault)
-    log=$("$cullproof" systems "${short[@]}" --family clusters -- "$adapter" crash-on-scene 2>&1); status=$?
+    log=$("$cullproof" systems "${short[@]}" --system bvh-masked --family clusters --family straddling --json "$out/r.json" \
+      -- "$adapter" crash-on-scene 2>&1); status=$?
     echo "$log"
     expect 2 "FAULT: system 'reference-flat' threw in build on frame 0: .*before answering scene message 1"
+    expect 2 "reference-flat faulted: system 'reference-flat' threw in build"
+    expect 2 "^  straddling +2 +1200 +0 "
     ls "$out"/systems/faults/reference-flat/clusters-0.json > /dev/null || { echo "cli_systems: the run was not saved" >&2; exit 1; }
+    grep -q '"fault": "system .reference-flat. threw in build' "$out/r.json" || { echo "cli_systems: no fault in the JSON" >&2; exit 1; }
+    grep -q '"system": "bvh-masked"' "$out/r.json" || { echo "cli_systems: bvh-masked missing from the JSON" >&2; exit 1; }
     ;;
   *)
     echo "cli_systems: unknown mode '$mode' (holds, refuted, fault)" >&2
