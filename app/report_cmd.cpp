@@ -63,9 +63,22 @@ int run_report_command(const ReportCommand& o) {
     PageInputs in;
     bool failed = false;
     if (!o.systems.empty()) {  // refused before a run is made
-      in.systems = read_result(o.systems, "a systems result");
       in.systems_from = o.systems;
-      check_systems_result(in.systems);
+      try {
+        in.systems = read_result(o.systems, "a systems result");
+      } catch (const ResultError& e) {  // names the file
+        std::cerr << who << e.what() << "\n";
+        return 2;
+      } catch (const InputLimitError& e) {
+        std::cerr << who << o.systems << ": " << e.what() << "\n";
+        return 2;
+      }
+      try {
+        check_systems_result(in.systems);
+      } catch (const ResultError& e) {
+        std::cerr << who << o.systems << ": " << e.what() << "\n";
+        return 2;
+      }
     }
     if (!o.from.empty()) {
       result = read_result(o.from);
@@ -102,9 +115,7 @@ int run_report_command(const ReportCommand& o) {
     std::cerr << who << e.what() << "\n";
     return 2;
   } catch (const ResultError& e) {
-    const bool systems = std::string(e.what()).rfind("systems: ", 0) == 0;
-    const std::string file = systems ? o.systems : o.from;
-    std::cerr << who << (file.empty() ? "" : file + ": ") << e.what() << "\n";
+    std::cerr << who << (o.from.empty() ? "" : o.from + ": ") << e.what() << "\n";
     return 2;
   } catch (const InputLimitError& e) {
     std::cerr << who << o.from << ": " << e.what() << "\n";

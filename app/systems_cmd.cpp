@@ -32,14 +32,6 @@ constexpr std::uint64_t kMaxRuns = 1000000;     ///< runs per family
 constexpr std::uint64_t kMaxFrames = 100000;    ///< frames per run
 constexpr int kMaxShrink = 100000;              ///< system runs per shrink
 
-// The false-intersect rate as the campaign gives it: of the object-frames truly outside, in
-// percent, with its 95% Wilson interval.
-std::string rate(std::uint64_t k, std::uint64_t n) {
-  if (n == 0) return "-";
-  const auto [lo, hi] = wilson95(k, n);
-  return fmt::format("{:.2f} [{:.2f}, {:.2f}]", 100.0 * double(k) / double(n), 100.0 * lo, 100.0 * hi);
-}
-
 std::string per_object(double seconds, std::uint64_t n) { return n ? fmt::format("{:.0f}", seconds * 1e9 / double(n)) : "-"; }
 
 // A system's claim breaks the run when the system is the user's or cullproof's own.
@@ -111,7 +103,7 @@ nlohmann::json print_tallies(const System& s, const std::vector<scenes::FamilyTa
   for (const scenes::FamilyTally& t : tallies) {
     const std::uint64_t fi = t.by_class[int(ErrorClass::false_intersect)];
     fmt::print("  {:<{}} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", t.family, w, t.runs, t.judged, t.claim_broken,
-               t.by_class[int(ErrorClass::false_reject)], t.by_class[int(ErrorClass::false_inside)], rate(fi, t.truth_outside),
+               t.by_class[int(ErrorClass::false_reject)], t.by_class[int(ErrorClass::false_inside)], percent_ci95(fi, t.truth_outside),
                per_object(t.cull_seconds, t.judged), per_object(t.judge_seconds, t.judged));
     js["families"].push_back({{"family", t.family},
                               {"runs", t.runs},
@@ -369,11 +361,7 @@ nlohmann::json system_record_views(const std::string& dir) {
   nlohmann::json out = nlohmann::json::array();
   for (const std::filesystem::path& file : system_record_files(dir)) {
     const RecordView r = record_view(file);
-    nlohmann::json view = report::case_view_json(r.entry);
-    view["others"] = nlohmann::json::array();
-    for (const Volume& v : r.others) view["others"].push_back(report::volume_view_json(v));
-    view["system"] = r.system;
-    out.push_back(std::move(view));
+    out.push_back(report::system_view_json(r.entry, r.others, r.system));
   }
   return out;
 }
@@ -384,19 +372,12 @@ int write_system_record_page(const std::string& dir, const std::string& id, cons
     if (file.stem() != id) continue;
     try {
       const RecordView r = record_view(file);
-      const nlohmann::json view = report::case_view_json(r.entry);
+      const nlohmann::json view = report::system_view_json(r.entry, r.others, r.system);
       if (!html_file.empty()) {
-        write_file_atomic(html_file, report::system_html(id, r.entry, r.others, r.system, report::load_web_asset("case.js")));
+        write_file_atomic(html_file, report::system_html(id, r.entry, view, report::load_web_asset("case.js")));
         std::cout << "page: " << html_file << "\n";
       }
-      if (!svg_file.empty()) {
-        write_file_atomic(svg_file, report::case_svg(view, false));
-        std::cout << "drawing: " << svg_file << "\n";
-      }
-      if (!zoom_svg_file.empty()) {
-        write_file_atomic(zoom_svg_file, report::case_svg(view, true));
-        std::cout << "drawing, magnified around the error: " << zoom_svg_file << "\n";
-      }
+      report::write_case_drawings(view, svg_file, zoom_svg_file);
       return 0;
     } catch (const std::exception& ex) {
       std::cerr << "cullproof corpus show: " << file.string() << ": " << ex.what() << "\n";

@@ -4,6 +4,8 @@
 
 #include "cullproof/oracle/oracle.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -58,6 +60,12 @@ std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept {
   // With no success (no failure) the bound is exactly 0 (1); centre - half would leave a rounding
   // residue such as 1e-19 there.
   return {k == 0 ? 0.0 : std::max(0.0, centre - half), k == n ? 1.0 : std::min(1.0, centre + half)};
+}
+
+std::string percent_ci95(std::uint64_t k, std::uint64_t n) {
+  if (n == 0) return "-";
+  const auto [lo, hi] = wilson95(k, n);
+  return fmt::format("{:.2f} [{:.2f}, {:.2f}]", 100.0 * double(k) / double(n), 100.0 * lo, 100.0 * hi);
 }
 
 }  // namespace cullproof

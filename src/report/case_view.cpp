@@ -380,15 +380,27 @@ std::string case_html(const CorpusEntry& e, const std::string& case_js) {
   return view_page(e.c.id, e.c.note, format_case(e.c, true), case_view_json(e), case_js);
 }
 
-json volume_view_json(const Volume& v) { return volume_json(v); }
-
-std::string system_html(const std::string& title, const CorpusEntry& failing, const std::vector<Volume>& others,
-                        const nlohmann::json& system, const std::string& case_js) {
+json system_view_json(const CorpusEntry& failing, const std::vector<Volume>& others, const json& system) {
   json view = case_view_json(failing);
   view["others"] = json::array();
   for (const Volume& v : others) view["others"].push_back(volume_json(v));
   view["system"] = system;
+  return view;
+}
+
+std::string system_html(const std::string& title, const CorpusEntry& failing, const json& view, const std::string& case_js) {
   return view_page(title, failing.c.note, format_case(failing.c, true), view, case_js);
+}
+
+void write_case_drawings(const json& view, const std::string& svg_file, const std::string& zoom_svg_file) {
+  if (!svg_file.empty()) {
+    write_file_atomic(svg_file, case_svg(view, false));
+    std::cout << "drawing: " << svg_file << "\n";
+  }
+  if (!zoom_svg_file.empty()) {
+    write_file_atomic(zoom_svg_file, case_svg(view, true));
+    std::cout << "drawing, magnified around the error: " << zoom_svg_file << "\n";
+  }
 }
 
 int write_case_files(const std::filesystem::path& dir, const std::string& id, const std::string& html_file,
@@ -401,15 +413,7 @@ int write_case_files(const std::filesystem::path& dir, const std::string& id, co
         write_file_atomic(html_file, case_html(e, js));
         std::cout << "page: " << html_file << "\n";
       }
-      const json view = case_view_json(e);
-      if (!svg_file.empty()) {
-        write_file_atomic(svg_file, case_svg(view, false));
-        std::cout << "drawing: " << svg_file << "\n";
-      }
-      if (!zoom_svg_file.empty()) {
-        write_file_atomic(zoom_svg_file, case_svg(view, true));
-        std::cout << "drawing, magnified around the error: " << zoom_svg_file << "\n";
-      }
+      write_case_drawings(case_view_json(e), svg_file, zoom_svg_file);
       return 0;
     }
     std::cerr << "cullproof corpus show: no case with id '" << id << "' under " << dir.string() << "\n";

@@ -45,72 +45,54 @@ a.case-link { font: 12px ui-monospace, monospace; margin-right: 6px; white-space
 #broken-claims td:nth-child(6) { max-width: 520px; }
 )css";
 
-// A field of the systems' JSON (`cullproof systems --json`), or a ResultError naming where.
-const json& field(const json& obj, const char* key, const std::string& where) {
-  if (!obj.is_object() || !obj.contains(key)) throw ResultError(fmt::format("systems: {} has no field \"{}\"", where, key));
-  return obj[key];
-}
-std::uint64_t count(const json& obj, const char* key, const std::string& where) {
-  const json& v = field(obj, key, where);
-  if (!v.is_number_unsigned()) throw ResultError(fmt::format("systems: {}.{} is not a count", where, key));
-  return v.get<std::uint64_t>();
-}
-double seconds(const json& obj, const char* key, const std::string& where) {
-  const json& v = field(obj, key, where);
-  if (!v.is_number() || v.get<double>() < 0) throw ResultError(fmt::format("systems: {}.{} is not a duration", where, key));
-  return v.get<double>();
-}
-std::string text(const json& obj, const char* key, const std::string& where) {
-  const json& v = field(obj, key, where);
-  if (!v.is_string()) throw ResultError(fmt::format("systems: {}.{} is not a string", where, key));
-  return v.get<std::string>();
+// A duration in seconds (cull_seconds, judge_seconds of `cullproof systems --json`).
+double seconds_field(const json& obj, const char* key, const std::string& where) {
+  const std::optional<double> v = measure_field(obj, key, where);
+  if (!v || *v < 0) throw ResultError(where + "." + key + ": expected a duration (seconds, not negative)");
+  return *v;
 }
 
 // The culling systems' section: per system, per family, what `cullproof systems` printed.
 std::string systems_html(const json& js, const std::string& from, std::set<std::string>& shown_cases) {
-  const json& systems = field(js, "systems", "the result");
-  if (!systems.is_array()) throw ResultError("systems: the result's \"systems\" is not an array");
+  const json& systems = field(js, "systems", "systems");
+  if (!systems.is_array()) throw ResultError("systems.systems: expected an array");
   std::string h = fmt::format(
       "<section id=\"systems\"><h2>Culling systems</h2>\n<p class=\"lead\">From <code>{}</code> (seed {}): each "
       "system built over the scenes of each family, told which objects moved, culled frame by frame, and every object of "
       "every frame judged exactly. Broken: object-frames that break the system's claim; the false-intersect rate is of "
       "the object-frames truly outside, with its 95% Wilson interval; nanoseconds per object-frame culling (build, "
       "updates, culls) and judging.</p>\n",
-      html_escape(from), count(js, "seed", "the result"));
+      html_escape(from), count_field(js, "seed", "systems"));
   for (std::size_t i = 0; i < systems.size(); ++i) {
     const json& sys = systems[i];
-    const std::string where = fmt::format("systems[{}]", i);
-    const std::string name = text(sys, "system", where);
-    const std::uint64_t broken = count(sys, "claim_broken", where);
+    const std::string where = fmt::format("systems.systems[{}]", i);
+    const std::string name = text_field(sys, "system", where);
+    const std::uint64_t broken = count_field(sys, "claim_broken", where);
     h += fmt::format("<h3>{} <span class=\"{}\">{}</span></h3>\n<p>{}, claim {}.</p>\n", html_escape(name),
-                     broken ? "refuted" : "held", broken ? "claim broken" : "claim held", html_escape(text(sys, "origin", where)),
-                     html_escape(text(sys, "claim", where)));
+                     broken ? "refuted" : "held", broken ? "claim broken" : "claim held", html_escape(text_field(sys, "origin", where)),
+                     html_escape(text_field(sys, "claim", where)));
     h += "<table class=\"systems-table\" data-system=\"" + html_escape(name) +
          "\">\n<tr><th>family</th><th>runs</th><th>object-frames</th><th>broken</th><th>false rejects</th><th>false "
          "insides</th><th>false-intersect %</th><th>cull ns</th><th>judge ns</th></tr>\n";
     const json& fams = field(sys, "families", where);
-    if (!fams.is_array()) throw ResultError(fmt::format("systems: {}.families is not an array", where));
+    if (!fams.is_array()) throw ResultError(where + ".families: expected an array");
     for (std::size_t k = 0; k < fams.size(); ++k) {
       const json& f = fams[k];
       const std::string w = fmt::format("{}.families[{}]", where, k);
-      const std::uint64_t judged = count(f, "object_frames", w), outside = count(f, "truth_outside", w),
-                          fi = count(f, "false_intersect", w), b = count(f, "claim_broken", w);
-      std::string rate = "-";
-      if (outside) {
-        const auto [lo, hi] = wilson95(fi, outside);
-        rate = fmt::format("{:.2f} [{:.2f}, {:.2f}]", 100.0 * double(fi) / double(outside), 100.0 * lo, 100.0 * hi);
-      }
+      const std::uint64_t judged = count_field(f, "object_frames", w), outside = count_field(f, "truth_outside", w),
+                          fi = count_field(f, "false_intersect", w), b = count_field(f, "claim_broken", w);
+      const std::string rate = percent_ci95(fi, outside);
       const auto per = [&](double sec) { return judged ? fmt::format("{:.0f}", sec * 1e9 / double(judged)) : std::string("-"); };
       h += fmt::format("<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num{}\">{}</td>"
                        "<td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>"
                        "<td class=\"num\">{}</td></tr>\n",
-                       html_escape(text(f, "family", w)), count(f, "runs", w), judged, b ? " refuted" : "", b,
-                       count(f, "false_reject", w), count(f, "false_inside", w), rate, per(seconds(f, "cull_seconds", w)),
-                       per(seconds(f, "judge_seconds", w)));
+                       html_escape(text_field(f, "family", w)), count_field(f, "runs", w), judged, b ? " refuted" : "", b,
+                       count_field(f, "false_reject", w), count_field(f, "false_inside", w), rate, per(seconds_field(f, "cull_seconds", w)),
+                       per(seconds_field(f, "judge_seconds", w)));
     }
     h += "</table>\n";
     if (sys.contains("record")) {
-      const std::string record = text(sys, "record", where);
+      const std::string record = text_field(sys, "record", where);
       const std::string id = std::filesystem::path(record).stem().string();
       h += fmt::format("<p>The record of its first failing run: <code>{}</code>{}.</p>\n", html_escape(record),
                        shown_cases.count(id) ? fmt::format(" (<a class=\"case-link\" href=\"#case={}\">in 3D below</a>)", html_escape(id)) : "");

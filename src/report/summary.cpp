@@ -21,33 +21,32 @@ const nlohmann::json& field(const nlohmann::json& j, const char* key, const std:
   return *it;
 }
 
-namespace {
-
-std::uint64_t count(const nlohmann::json& j, const char* key, const std::string& where) {
+std::uint64_t count_field(const nlohmann::json& j, const char* key, const std::string& where) {
   const nlohmann::json& v = field(j, key, where);
   if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<std::int64_t>() >= 0))
     throw ResultError(where + "." + key + ": expected a count (a non-negative integer)");
   return v.get<std::uint64_t>();
 }
 
-std::string text(const nlohmann::json& j, const char* key, const std::string& where) {
+std::string text_field(const nlohmann::json& j, const char* key, const std::string& where) {
   const nlohmann::json& v = field(j, key, where);
   if (!v.is_string()) throw ResultError(where + "." + key + ": expected a string");
   return v.get<std::string>();
 }
 
-bool flag(const nlohmann::json& j, const char* key, const std::string& where) {
-  const nlohmann::json& v = field(j, key, where);
-  if (!v.is_boolean()) throw ResultError(where + "." + key + ": expected true or false");
-  return v.get<bool>();
-}
-
-// A number or null (not measured).
-std::optional<double> measure(const nlohmann::json& j, const char* key, const std::string& where) {
+std::optional<double> measure_field(const nlohmann::json& j, const char* key, const std::string& where) {
   const nlohmann::json& v = field(j, key, where);
   if (v.is_null()) return std::nullopt;
   if (!v.is_number()) throw ResultError(where + "." + key + ": expected a number or null");
   return v.get<double>();
+}
+
+namespace {
+
+bool flag(const nlohmann::json& j, const char* key, const std::string& where) {
+  const nlohmann::json& v = field(j, key, where);
+  if (!v.is_boolean()) throw ResultError(where + "." + key + ": expected true or false");
+  return v.get<bool>();
 }
 
 std::vector<std::string> strings(const nlohmann::json& j, const char* key, const std::string& where) {
@@ -98,8 +97,8 @@ std::vector<std::size_t> pareto_front(const std::vector<CostPoint>& points) {
 
 Summary summarize(const nlohmann::json& verify) {
   Summary s;
-  s.seed = count(verify, "seed", "result");
-  s.cases_per_distribution = count(verify, "cases_per_distribution", "result");
+  s.seed = count_field(verify, "seed", "result");
+  s.cases_per_distribution = count_field(verify, "cases_per_distribution", "result");
   s.claim_broken = flag(verify, "claim_broken", "result");
   const nlohmann::json& dists = field(verify, "distributions", "result");
   if (!dists.is_array()) throw ResultError("result.distributions: expected an array");
@@ -114,7 +113,7 @@ Summary summarize(const nlohmann::json& verify) {
   for (std::size_t di = 0; di < dists.size(); ++di) {
     const std::string dw = fmt::format("result.distributions[{}]", di);
     const nlohmann::json& d = dists[di];
-    const std::string family = text(d, "distribution", dw);
+    const std::string family = text_field(d, "distribution", dw);
     s.families.push_back(family);
     const auto mit = d.find("methods");
     if (mit == d.end()) continue;  // a distribution no method took
@@ -122,13 +121,13 @@ Summary summarize(const nlohmann::json& verify) {
     for (std::size_t mi = 0; mi < mit->size(); ++mi) {
       const std::string w = fmt::format("{}.methods[{}]", dw, mi);
       const nlohmann::json& j = (*mit)[mi];
-      const std::string name = text(j, "method", w);
+      const std::string name = text_field(j, "method", w);
       auto [it, fresh] = index.emplace(name, acc.size());
       if (fresh) {
         Acc a;
         a.m.method = name;
-        a.m.claim = text(j, "claim", w);
-        a.m.origin = text(j, "origin", w);
+        a.m.claim = text_field(j, "claim", w);
+        a.m.origin = text_field(j, "origin", w);
         a.m.three_way = flag(j, "three_way", w);
         a.m.volumes = strings(j, "volumes", w);
         a.broken.method = name;
@@ -138,25 +137,25 @@ Summary summarize(const nlohmann::json& verify) {
       }
       Acc& a = acc[it->second];
       MethodOverall& m = a.m;
-      m.cases += count(j, "cases", w);
-      m.truth_outside += count(field(j, "truth", w), "outside", w + ".truth");
-      m.false_reject += count(j, "false_reject", w);
-      m.false_inside += count(j, "false_inside", w);
-      m.false_intersect += count(j, "false_intersect", w);
-      m.under_inside += count(j, "under_inside", w);
-      const std::uint64_t violations = count(j, "claim_violations", w);
+      m.cases += count_field(j, "cases", w);
+      m.truth_outside += count_field(field(j, "truth", w), "outside", w + ".truth");
+      m.false_reject += count_field(j, "false_reject", w);
+      m.false_inside += count_field(j, "false_inside", w);
+      m.false_intersect += count_field(j, "false_intersect", w);
+      m.under_inside += count_field(j, "under_inside", w);
+      const std::uint64_t violations = count_field(j, "claim_violations", w);
       m.claim_violations += violations;
       if (flag(j, "refuted", w)) m.refuted = true;
-      if (const auto x = measure(j, "ns_per_test", w)) a.ns.push_back(*x);
-      if (const auto x = measure(j, "ns_per_test_own", w)) a.ns_own.push_back(*x);
+      if (const auto x = measure_field(j, "ns_per_test", w)) a.ns.push_back(*x);
+      if (const auto x = measure_field(j, "ns_per_test_own", w)) a.ns_own.push_back(*x);
       if (violations) {
         FamilyBreak f;
         f.family = family;
         f.violations = violations;
-        f.float_exact_violations = count(j, "float_exact_violations", w);
+        f.float_exact_violations = count_field(j, "float_exact_violations", w);
         const nlohmann::json& first = field(j, "first_violation", w);
         if (!first.is_null()) {
-          f.first_violation = count(j, "first_violation", w);
+          f.first_violation = count_field(j, "first_violation", w);
           f.reproduce = fmt::format("cullproof verify --seed {} --distribution {} --index {} --method {}", s.seed,
                                     family, *f.first_violation, name);
         }

@@ -9,16 +9,24 @@
 
 #include <cmath>
 #include <optional>
+#include <type_traits>
 #include <variant>
 
 namespace cullproof::scenes {
 
 namespace {
 
-bool finite(const Aabb& b) {
-  for (int k = 0; k < 3; ++k)
-    if (!std::isfinite(b.min[k]) || !std::isfinite(b.max[k])) return false;
+// Every value of a volume finite (each volume type is floats alone).
+template <class T>
+bool finite(const T& x) {
+  static_assert(sizeof(T) % sizeof(float) == 0 && std::is_trivially_copyable_v<T>, "a volume of floats");
+  const float* f = reinterpret_cast<const float*>(&x);
+  for (std::size_t k = 0; k < sizeof(T) / sizeof(float); ++k)
+    if (!std::isfinite(f[k])) return false;
   return true;
+}
+bool finite(const Volume& v) {
+  return std::visit([](const auto& x) { return finite(x); }, v);
 }
 
 // The certified test of the volume's kind: `outside` and `inside` are proofs (the certified tests
@@ -29,17 +37,6 @@ Visibility certified(const CertifiedFrustum& f, const Volume& v) {
   if (const auto* s = std::get_if<Sphere>(&v)) return certified_sphere(f, *s);
   if (const auto* b = std::get_if<Aabb>(&v)) return certified_pn_vertex(f, *b);
   return certified_obb_pn_vertex(f, std::get<Obb>(v));
-}
-
-bool finite(const Volume& v) {
-  return std::visit(
-      [](const auto& x) {
-        const float* f = reinterpret_cast<const float*>(&x);
-        for (std::size_t k = 0; k < sizeof(x) / sizeof(float); ++k)
-          if (!std::isfinite(f[k])) return false;
-        return true;
-      },
-      v);
 }
 
 }  // namespace

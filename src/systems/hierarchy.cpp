@@ -137,10 +137,11 @@ struct HierarchyCuller::State {
     traverse_bvh(*bvh, fn, prim, emit, frame.visited, frame.tests);
   }
 
-  // Plane coherency, with the octant test when this frame allows it.
-  void coherent(const node::SelectedPlanes& sel, const std::optional<OctantCuller>& oct, VisibleSet& out,
+  // Plane coherency, with the octant test when this frame allows it; `prim` tests the objects of
+  // a leaf of several.
+  template <class PrimFn>
+  void coherent(const node::SelectedPlanes& sel, const std::optional<OctantCuller>& oct, PrimFn&& prim, VisibleSet& out,
                 std::vector<std::uint8_t>* nodes) {
-    const auto prim = [&](const Aabb& box, std::uint32_t, std::uint64_t& t) { return node::all_planes(sel, box, t); };
     if (oct)
       traverse([&](std::uint32_t n, const Aabb& box, std::uint32_t&, std::uint64_t& t) {
         return node::octant_coherent(*oct, sel, box, pc[n], t);
@@ -176,7 +177,7 @@ struct HierarchyCuller::State {
       case HierarchyTest::pc_octant: {
         const std::optional<OctantCuller> oct = octant(view);
         frame.octant_used = oct.has_value();
-        coherent(sel, oct, out, nodes);
+        coherent(sel, oct, all, out, nodes);
         break;
       }
       case HierarchyTest::pc_tr:
@@ -191,7 +192,7 @@ struct HierarchyCuller::State {
           frame.tests = 6 * (trc.stats.full_tests - before.full_tests);
         } else {
           frame.octant_used = oct.has_value();
-          coherent(sel, oct, out, nodes);
+          coherent(sel, oct, all, out, nodes);
         }
         break;
       }

@@ -7,6 +7,8 @@
 #include "cullproof/protocol/protocol.hpp"
 #include "cullproof/scenes/scenes.hpp"
 
+#include "fault_of.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -34,15 +36,7 @@ cullproof::testing::SystemOptions small() {
   return o;
 }
 
-std::string fault_of(const System& s) {
-  const scenes::SceneRun run = scenes::draw_run("clusters", 1, 0, {30, 3});
-  try {
-    scenes::judge_run(s, run);
-  } catch (const scenes::SystemFault& f) {
-    return f.what();
-  }
-  return "";
-}
+std::string fault_of_run(const System& s) { return cullproof::test::fault_of(s, 30); }
 
 }  // namespace
 
@@ -63,15 +57,15 @@ TEST(SystemProtocol, ItsPlantedBugIsRefutedAndShrunk) {
 }
 
 TEST(SystemProtocol, FaultsStopTheSystemNamingTheMessage) {
-  EXPECT_NE(fault_of(reference("crash-on-scene")).find("before answering scene message 1 (30 object(s) for system 'reference-flat')"),
+  EXPECT_NE(fault_of_run(reference("crash-on-scene")).find("before answering scene message 1 (30 object(s) for system 'reference-flat')"),
             std::string::npos)
-      << fault_of(reference("crash-on-scene"));
-  const std::string hang = fault_of(reference("hang-on-cull", 300));
+      << fault_of_run(reference("crash-on-scene"));
+  const std::string hang = fault_of_run(reference("hang-on-cull", 300));
   EXPECT_NE(hang.find("no answer within 300 ms to cull message 2"), std::string::npos) << hang;
-  const std::string count = fault_of(reference("wrong-count"));
+  const std::string count = fault_of_run(reference("wrong-count"));
   EXPECT_NE(count.find("verdict(s) for"), std::string::npos) << count;
   EXPECT_NE(count.find("visible id(s)"), std::string::npos) << count;
-  const std::string unknown = fault_of(reference("unknown-id"));
+  const std::string unknown = fault_of_run(reference("unknown-id"));
   EXPECT_NE(unknown.find("id 4000000000 is not in the scene"), std::string::npos) << unknown;
 }
 

@@ -10,6 +10,8 @@
 #include "cullproof/systems/hierarchy.hpp"
 #include "cullproof/systems/system.hpp"
 
+#include "fault_of.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,6 +43,8 @@ bool finite_box(const Aabb& b) {
     if (!std::isfinite(b.min[k]) || !std::isfinite(b.max[k])) return false;
   return true;
 }
+
+std::string fault_of_run(const System& s) { return cullproof::test::fault_of(s, 20); }
 
 }  // namespace
 
@@ -229,37 +233,27 @@ System fixed_answer(const char* name, VisibleSet set, bool three_way = true) {
       [set](int&, const CullView&, VisibleSet& out) { out = set; });
 }
 
-std::string fault_of(const System& s) {
-  const scenes::SceneRun run = scenes::draw_run("clusters", 1, 0, {20, 3});
-  try {
-    scenes::judge_run(s, run);
-  } catch (const scenes::SystemFault& f) {
-    return f.what();
-  }
-  return "";
-}
-
 }  // namespace
 
 TEST(SystemFaults, VisibleSetsThatAreNotOnesAreNamed) {
-  EXPECT_NE(fault_of(fixed_answer("unknown-id", {{12345u}, {Visibility::inside}})).find("id 12345 is not in the scene"),
+  EXPECT_NE(fault_of_run(fixed_answer("unknown-id", {{12345u}, {Visibility::inside}})).find("id 12345 is not in the scene"),
             std::string::npos);
-  EXPECT_NE(fault_of(fixed_answer("twice", {{7u, 7u}, {Visibility::inside, Visibility::inside}})).find("id 7 again"),
+  EXPECT_NE(fault_of_run(fixed_answer("twice", {{7u, 7u}, {Visibility::inside, Visibility::inside}})).find("id 7 again"),
             std::string::npos);
-  EXPECT_NE(fault_of(fixed_answer("counts", {{7u, 10u}, {Visibility::inside}})).find("2 ids and 1 verdicts"),
+  EXPECT_NE(fault_of_run(fixed_answer("counts", {{7u, 10u}, {Visibility::inside}})).find("2 ids and 1 verdicts"),
             std::string::npos);
-  EXPECT_NE(fault_of(fixed_answer("outside-listed", {{7u}, {Visibility::outside}})).find("listed with verdict outside"),
+  EXPECT_NE(fault_of_run(fixed_answer("outside-listed", {{7u}, {Visibility::outside}})).find("listed with verdict outside"),
             std::string::npos);
-  EXPECT_NE(fault_of(fixed_answer("two-way-inside", {{7u}, {Visibility::inside}}, false)).find("inside by a two-way"),
+  EXPECT_NE(fault_of_run(fixed_answer("two-way-inside", {{7u}, {Visibility::inside}}, false)).find("inside by a two-way"),
             std::string::npos);
-  EXPECT_NE(fault_of(fixed_answer("no-verdicts", {{7u}, {}})).find("three-way system's visible set has no verdicts"),
+  EXPECT_NE(fault_of_run(fixed_answer("no-verdicts", {{7u}, {}})).find("three-way system's visible set has no verdicts"),
             std::string::npos);
   // A two-way system may list ids alone.
-  EXPECT_EQ(fault_of(fixed_answer("two-way-ids", {{7u, 10u}, {}}, false)), "");
+  EXPECT_EQ(fault_of_run(fixed_answer("two-way-ids", {{7u, 10u}, {}}, false)), "");
   const System thrower = make_system(
       answering("throws-on-cull"), [](const Scene&) { return 0; }, [](int&, const std::vector<SceneObject>&) {},
       [](int&, const CullView&, VisibleSet&) { throw std::runtime_error("engine assertion"); });
-  EXPECT_NE(fault_of(thrower).find("system 'throws-on-cull' threw in cull on frame 0: engine assertion"),
+  EXPECT_NE(fault_of_run(thrower).find("system 'throws-on-cull' threw in cull on frame 0: engine assertion"),
             std::string::npos);
 }
 

@@ -103,6 +103,8 @@ PathCase path_from_json(const nlohmann::json& j, const std::string& where);
 
 /// Wilson score interval (95%) for k successes in n trials: {low, high}; {0, 0} when n == 0.
 std::pair<double, double> wilson95(std::uint64_t k, std::uint64_t n) noexcept;
+/// k of n in percent with that interval, two decimals: "3.35 [2.01, 5.54]"; "-" when n == 0.
+std::string percent_ci95(std::uint64_t k, std::uint64_t n);
 
 namespace detail {
 

@@ -44,21 +44,25 @@ nlohmann::json case_view_json(const CorpusEntry& e);
 /// load_web_asset("case.js").
 std::string case_html(const CorpusEntry& e, const std::string& case_js);
 
-/// A volume as the viewer takes it ({"kind": "aabb", "min", "max"}, ...; exact float values).
-nlohmann::json volume_view_json(const Volume& v);
+/// What the viewer draws of a culling system's failure: case_view_json(failing) with the frame's
+/// other objects (`others`) and `system` (name, claim, family, index, seed, objects, frames,
+/// motion, frame, camera, object).
+nlohmann::json system_view_json(const CorpusEntry& failing, const std::vector<Volume>& others, const nlohmann::json& system);
 
 /// The page of a culling system's failure in 3D (`cullproof corpus show NAME --html` for a
-/// system record): the failing object's case drawn as case_html draws it, the frame's other
-/// objects beside it, and `system` (name, claim, family, index, seed, objects, frames, motion,
-/// frame, camera, object) described. `case_js` is load_web_asset("case.js").
-std::string system_html(const std::string& title, const CorpusEntry& failing, const std::vector<Volume>& others,
-                        const nlohmann::json& system, const std::string& case_js);
+/// system record): `view` is system_view_json's, `case_js` load_web_asset("case.js").
+std::string system_html(const std::string& title, const CorpusEntry& failing, const nlohmann::json& view,
+                        const std::string& case_js);
 
 /// The three-view drawing of a case for documents (front: looking down -z; top: looking down -y;
 /// side: looking down -x), one SVG with the three side by side: the frustum's bounded part and
 /// where it leaves the drawing, the volume, the witness, the fault plane highlighted. `zoom`:
 /// magnified around the error as the 3D view's "zoom to the error" is (see web/src/viewer.js).
 std::string case_svg(const nlohmann::json& view, bool zoom);
+
+/// Writes case_svg(view, false) to `svg_file` and case_svg(view, true) to `zoom_svg_file`, each
+/// when given, and says where on stdout.
+void write_case_drawings(const nlohmann::json& view, const std::string& svg_file, const std::string& zoom_svg_file);
 
 /// `cullproof corpus show ID --html FILE [--svg FILE] [--zoom-svg FILE]`: finds case `id` under
 /// `dir` and writes the page (and the drawings). Returns 0, or 2 with a message on stderr when the

@@ -113,5 +113,9 @@ void print_summary(const Summary& s, std::ostream& out);
 
 /// Required field `key` of object `j` at JSON path `where`; throws ResultError naming the path.
 const nlohmann::json& field(const nlohmann::json& j, const char* key, const std::string& where);
+/// The same for a count (a non-negative integer), a string, and a number or null (not measured).
+std::uint64_t count_field(const nlohmann::json& j, const char* key, const std::string& where);
+std::string text_field(const nlohmann::json& j, const char* key, const std::string& where);
+std::optional<double> measure_field(const nlohmann::json& j, const char* key, const std::string& where);
 
 }  // namespace cullproof::report
