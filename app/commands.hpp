@@ -29,6 +29,7 @@ struct ExternalProgram {
   std::vector<std::string> names;    ///< --external (repeatable; 'all': every method it offers)
   std::vector<std::string> command;  ///< everything after the first '--'
   int timeout_ms = 10000;            ///< --external-timeout
+  int handshake_timeout_ms = 30000;  ///< --external-handshake-timeout
   int jobs = 1;                      ///< --external-jobs (verify)
   /// Adds --external, --external-timeout and --external-jobs to cmd.
   void add_options(CLI::App* cmd);

@@ -24,6 +24,11 @@ void ExternalProgram::add_options(CLI::App* cmd) {
   cmd->add_option("--external-timeout", timeout_ms, "Milliseconds to wait for each answer of the program")
       ->capture_default_str()
       ->check(CLI::Range(1, kMaxExternalTimeoutMs));
+  cmd->add_option("--external-handshake-timeout", handshake_timeout_ms,
+                  "Milliseconds to wait for the program's handshake (when it starts, and when it is started again "
+                  "after a fault)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, kMaxExternalTimeoutMs));
   cmd->add_option("--external-jobs", jobs,
                   "Copies of the program to run side by side, asked by whichever thread is free (stateful "
                   "methods always through the first)")
@@ -67,6 +72,7 @@ std::optional<ExternalOptions> options_of(const ExternalProgram& p, int instance
   ExternalOptions eo;
   eo.command = p.command;
   eo.timeout = std::chrono::milliseconds(p.timeout_ms);
+  eo.handshake_timeout = std::chrono::milliseconds(p.handshake_timeout_ms);
   eo.instances = instances;
   return eo;
 }

@@ -89,7 +89,7 @@ int run_report_command(const ReportCommand& o) {
       if (!o.no_corpus) v.corpus = std::filesystem::path(o.corpus);
       const VerifyResult r = run_verify(v);
       result = to_json(r);
-      failed = r.claim_broken();
+      failed = r.failed();
       in.made_by = o.run.command();
       if (!o.json.empty()) write_file_atomic(o.json, result.dump(2) + "\n");
     }

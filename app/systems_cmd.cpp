@@ -241,7 +241,7 @@ int run_systems_command(const SystemsCommand& c, const ExternalProgram& external
   for (const std::string& l : broken_lines) fmt::print("{}\n", l);
   for (const std::string& l : fault_lines) fmt::print("{}\n", l);
   if (!c.json_file.empty()) write_file_atomic(c.json_file, out.dump(1) + "\n");
-  return !fault_lines.empty() ? 2 : failed ? 1 : 0;
+  return !fault_lines.empty() ? 3 : failed ? 1 : 0;
 }
 
 namespace {

@@ -11,7 +11,9 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -23,15 +25,34 @@ namespace {
 
 constexpr std::uint64_t kMaxUnsigned = std::numeric_limits<std::uint64_t>::max();
 
-int cmd_verify(const VerifyOptions& opt, const std::string& json_file, const std::vector<Method>& methods) {
-  VerifyResult r;
-  try {
-    r = run_verify(opt, methods);
-  } catch (const MethodFault& e) {
-    std::cerr << "cullproof verify: FAULT: " << e.what() << "\n";
-    return 3;
-  }
-  print_tables(r, std::cout);
+// SIGINT and SIGTERM stop the run (VerifyOptions::stop): what was judged is reported, marked
+// interrupted. The handler is installed once per run and resets itself, so a second signal ends
+// the process at once.
+std::atomic<bool> g_stop{false};
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void on_stop_signal(int sig) {
+  g_signal = sig;
+  g_stop.store(true);
+}
+
+void catch_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+}
+
+int cmd_verify(VerifyOptions opt, const std::string& json_file, const std::vector<Method>& methods) {
+  static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+  catch_stop_signals();
+  opt.stop = &g_stop;
+  // Each distribution's table as soon as it is done; the notes under the last.
+  opt.on_distribution = [&](const DistributionResult& d) { print_table(d, opt.seed, std::cout); };
+  const VerifyResult r = run_verify(opt, methods);
+  print_table_notes(r, std::cout);
   if (!json_file.empty()) write_file_atomic(json_file, to_json(r).dump(2) + "\n");
   std::size_t written = 0;
   for (const auto& d : r.distributions)
@@ -40,6 +61,15 @@ int cmd_verify(const VerifyOptions& opt, const std::string& json_file, const std
 #ifdef CULLPROOF_HAVE_REPORT
   report::print_summary(report::summarize(to_json(r)), std::cout);
 #endif
+  if (r.interrupted) {
+    const int sig = g_signal ? int(g_signal) : SIGINT;
+    std::cout << "INTERRUPTED by signal " << sig << ": the results above are over the cases judged before it\n";
+    return 128 + sig;
+  }
+  if (r.faults() > 0) {
+    std::cout << "FAILED: " << r.faults() << " fault(s) (see FAULT above); the faulted methods' counts are incomplete\n";
+    return 3;
+  }
   if (r.claim_broken()) {
     std::cout << "FAILED: a claim of one of cullproof's own methods or of a user's method was refuted (see REFUTED above)\n";
     return 1;

@@ -20,9 +20,14 @@ namespace {
 
 using namespace detail;
 
+// A method's verdict on a case: a Visibility, or one of these.
+constexpr std::int8_t kNotApplying = -1;  // the method does not take the volume or does not apply
+constexpr std::int8_t kNotAsked = -2;     // not asked (after its fault, or the run was stopped)
+
 struct CaseOutcome {
   Visibility truth{};
-  std::vector<std::int8_t> verdict;  // -1: method does not apply; else Visibility
+  bool judged = false;               // the oracle decided the truth
+  std::vector<std::int8_t> verdict;  // Visibility, kNotApplying or kNotAsked
   double distance = std::numeric_limits<double>::quiet_NaN();  // oracle distance, erring cases only
   double scale = 0.0;                                          // gen::case_scale, erring cases only
   bool float_exact = false;                                    // gen::float_exact
@@ -31,18 +36,23 @@ struct CaseOutcome {
   std::array<double, 3> verdict_distance{kUnmeasured, kUnmeasured, kUnmeasured};
 };
 
-std::int8_t verdict_code(const Answer& a) { return a ? std::int8_t(*a) : std::int8_t(-1); }
+std::int8_t verdict_code(const Answer& a) { return a ? std::int8_t(*a) : kNotApplying; }
+
+constexpr std::uint64_t kNoFault = std::numeric_limits<std::uint64_t>::max();
 
 // One distribution of a run, step by step: draw the cases; run the methods (case by case, or on
-// camera paths frame by frame as an engine does, stateful methods on one thread); stop at the
-// first fault; measure the errors' distances; then count each method's errors, record them in
-// the corpus and time the method.
+// camera paths frame by frame as an engine does, stateful methods on one thread), a method that
+// faults no longer asked past its fault; measure the errors' distances; then count each method's
+// errors, record them in the corpus and time the method. A stop request (VerifyOptions::stop)
+// ends the drawing and asking: what was judged is counted.
 class DistributionRun {
  public:
   DistributionRun(const VerifyOptions& opt, const std::vector<Method>& ms, gen::Distribution d, Progress& progress)
       : opt_(opt), ms_(ms), d_(d), progress_(progress), per_(opt.only_index ? 1 : opt.cases),
         first_(opt.only_index ? *opt.only_index : 0), on_paths_(d == gen::Distribution::camera_path),
-        cases_(per_), out_(per_) {}
+        cases_(per_), out_(per_), fault_at_(ms.size()), fault_problem_(ms.size()) {
+    for (auto& f : fault_at_) f.store(kNoFault, std::memory_order_relaxed);
+  }
 
   DistributionResult run() {
     const auto st0 = oracle::stats();
@@ -50,26 +60,39 @@ class DistributionRun {
     run_case_by_case();
     if (on_paths_) run_path_frames();
     run_stateful();
-    stop_at_first_fault();
+    const bool interrupted = stopped();
+    std::vector<std::optional<MethodFault>> faults = collect_faults();
     measure_errors();
     const auto st1 = oracle::stats();
 
     DistributionResult dr;
     dr.distribution = d_;
-    dr.cases = per_;
+    dr.cases_asked = per_;
+    dr.interrupted = interrupted;
     dr.oracle_calls = st1.calls - st0.calls;
     dr.oracle_fallbacks = st1.fallbacks - st0.fallbacks;
-    for (const CaseOutcome& o : out_) dr.float_exact_cases += o.float_exact;
-    const auto frames = timing_frames();
+    for (const CaseOutcome& o : out_) {
+      dr.cases += o.judged;
+      dr.float_exact_cases += o.judged && o.float_exact;
+    }
+    const bool timing = opt_.timing && !interrupted;
+    const auto frames = timing ? timing_frames() : std::map<unsigned, std::vector<KindedFrame>>{};
     for (std::size_t k = 0; k < ms_.size(); ++k) {
       MethodStats s = tally(k);
-      if (opt_.timing) {
-        const Timing t = time_method(ms_[k], frames.at(ms_[k].volumes));
-        s.ns_per_test = t.ns_per_test;
-        s.ns_setup_per_frame = t.ns_setup_per_frame;
-        s.timed_batch = ms_[k].has_batch();
-        s.ns_per_test_own = t.ns_per_test_own;
+      if (faults[k]) s.fault = std::move(faults[k]);
+      if (timing && !s.fault) {
+        try {
+          const Timing t = time_method(ms_[k], frames.at(ms_[k].volumes));
+          s.ns_per_test = t.ns_per_test;
+          s.ns_setup_per_frame = t.ns_setup_per_frame;
+          s.timed_batch = ms_[k].has_batch();
+          s.ns_per_test_own = t.ns_per_test_own;
+        } catch (const std::exception& e) {
+          s.fault = timing_fault(ms_[k], fmt::format("{} (while timed: frames of {} volumes drawn from seed {})", e.what(),
+                                                     opt_.frame_size, opt_.seed));
+        }
       }
+      if (!timing || s.fault) s.ns_per_test = s.ns_setup_per_frame = std::numeric_limits<double>::quiet_NaN();
       dr.methods.push_back(std::move(s));
     }
     return dr;
@@ -81,6 +104,8 @@ class DistributionRun {
   // path is drawn once (and kept for the stateful methods, which run over it).
   void draw_cases() {
     for (std::uint64_t i = 0; i < per_; ++i) {
+      if (i % 1024 == 0 && stopped()) break;
+      drawn_ = i + 1;
       if (on_paths_) {
         const gen::PathIndex at = gen::path_index(first_ + i);
         auto it = paths_.find(at.path);
@@ -106,23 +131,29 @@ class DistributionRun {
     return pc;
   }
 
-  // A fault is kept for the smallest case index it happens on (the same seed reports the same case
-  // whatever the threads do). Indices are the distribution's (a stateful method on a camera path
-  // may fault on a frame before the first case asked for).
+  bool stopped() const { return opt_.stop && opt_.stop->load(std::memory_order_relaxed); }
+
+  // Whether method k is still asked about case `index` (of the distribution): only below the
+  // smallest index it faulted on so far, so that every case before its first fault is asked and
+  // the same seed reports the same fault whatever the threads do.
+  bool asks(std::size_t k, std::uint64_t index) const { return index < fault_at_[k].load(std::memory_order_relaxed); }
+
+  // A fault of method k is kept for the smallest case index it happens on. Indices are the
+  // distribution's (a stateful method on a camera path may fault on a frame before the first case
+  // asked for).
   void note_fault(std::uint64_t index, std::size_t k, const std::string& problem) {
     std::lock_guard<std::mutex> g(fault_mutex_);
-    if (index < fault_index_ || (index == fault_index_ && k < fault_method_)) {
-      fault_index_ = index;
-      fault_method_ = k;
-      fault_problem_ = problem;
+    if (index < fault_at_[k].load(std::memory_order_relaxed)) {
+      fault_at_[k].store(index, std::memory_order_relaxed);
+      fault_problem_[k] = problem;
     }
   }
 
   void run_one(std::uint64_t i, std::size_t k) {
+    if (!asks(k, first_ + i)) return;
     try {
       out_[i].verdict[k] = verdict_code(run_method(ms_[k], cases_[i]));
     } catch (const std::exception& e) {
-      out_[i].verdict[k] = -1;
       note_fault(first_ + i, k, e.what());
     }
   }
@@ -131,18 +162,21 @@ class DistributionRun {
   PathSink keep_verdicts(std::uint64_t path, std::size_t k) {
     return [this, path, k](std::size_t frame, std::size_t object, const Answer& a) {
       const std::uint64_t index = gen::path_case_index({path, frame, object});
-      if (index >= first_ && index < first_ + per_) out_[index - first_].verdict[k] = verdict_code(a);
+      if (index >= first_ && index < first_ + drawn_ && out_[index - first_].judged && asks(k, index))
+        out_[index - first_].verdict[k] = verdict_code(a);
     };
   }
 
   // The truth of every case, in parallel, and the verdicts of the methods that are not stateful
   // (off camera paths).
   void run_case_by_case() {
-    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per_, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, drawn_, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
+      if (stopped()) return;
       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
         out_[i].truth = oracle::truth(cases_[i].frustum, cases_[i].volume);
         out_[i].float_exact = gen::float_exact(cases_[i].frustum, cases_[i].volume);
-        out_[i].verdict.resize(ms_.size(), std::int8_t(-1));
+        out_[i].verdict.resize(ms_.size(), kNotAsked);
+        out_[i].judged = true;
         if (!on_paths_)
           for (std::size_t k = 0; k < ms_.size(); ++k)
             if (!ms_[k].stateful) run_one(i, k);
@@ -156,15 +190,16 @@ class DistributionRun {
   // frame is exercised); the methods that are not stateful frame by frame in parallel.
   void run_path_frames() {
     std::vector<std::pair<std::uint64_t, std::size_t>> frames;  // (path, frame) of the run's cases
-    for (std::uint64_t i = 0; i < per_; ++i) {
+    for (std::uint64_t i = 0; i < drawn_; ++i) {
       const gen::PathIndex at = gen::path_index(first_ + i);
       if (frames.empty() || frames.back() != std::make_pair(at.path, at.frame)) frames.emplace_back(at.path, at.frame);
     }
     tbb::parallel_for(std::size_t(0), frames.size(), [&](std::size_t u) {
+      if (stopped()) return;
       const auto [number, f] = frames[u];
       const gen::CameraPath& cp = paths_.at(number);
       for (std::size_t k = 0; k < ms_.size(); ++k) {
-        if (ms_[k].stateful) continue;
+        if (ms_[k].stateful || !asks(k, gen::path_case_index({number, f, 0}))) continue;
         try {
           run_path(ms_[k], cp.frames, f, f, cp.objects, keep_verdicts(number, k), /*reset=*/false);
         } catch (const PathFault& e) {
@@ -182,12 +217,14 @@ class DistributionRun {
     for (std::size_t k = 0; k < ms_.size(); ++k) {
       if (!ms_[k].stateful) continue;
       if (!on_paths_) {
-        for (std::uint64_t i = 0; i < per_; ++i) run_one(i, k);
+        for (std::uint64_t i = 0; i < drawn_ && asks(k, first_ + i) && !(i % 64 == 0 && stopped()); ++i)
+          if (out_[i].judged) run_one(i, k);
         continue;
       }
       for (const auto& [number, cp] : paths_) {
         const std::uint64_t base = gen::path_case_index({number, 0, 0});
-        const std::uint64_t last = std::min(base + gen::kPathFrames * gen::kPathObjects, first_ + per_) - 1;
+        if (!asks(k, base) || stopped()) break;
+        const std::uint64_t last = std::min(base + gen::kPathFrames * gen::kPathObjects, first_ + drawn_) - 1;
         try {
           run_path(ms_[k], cp.frames, 0, gen::path_index(last).frame, cp.objects, keep_verdicts(number, k));
         } catch (const PathFault& e) {
@@ -198,26 +235,33 @@ class DistributionRun {
     }
   }
 
-  void stop_at_first_fault() {
-    if (fault_index_ == std::numeric_limits<std::uint64_t>::max()) return;
-    progress_.finish();
-    const Method& m = ms_[fault_method_];
-    if (on_paths_) {
-      PathCase pc = path_case_at(fault_index_);
-      if (!m.stateful) pc.frames = {pc.frames.back()};
-      GenCase g = gen::path_case(paths_.at(gen::path_index(fault_index_).path), pc.frames.size() - 1, pc.object);
-      fault(opt_, m, d_, fault_index_, g, fault_problem_, &pc);
+  // Each method's fault, if it had one, with its case saved.
+  std::vector<std::optional<MethodFault>> collect_faults() const {
+    std::vector<std::optional<MethodFault>> faults(ms_.size());
+    for (std::size_t k = 0; k < ms_.size(); ++k) {
+      const std::uint64_t at = fault_at_[k].load();
+      if (at == kNoFault) continue;
+      const Method& m = ms_[k];
+      if (on_paths_) {
+        PathCase pc = path_case_at(at);
+        if (!m.stateful) pc.frames = {pc.frames.back()};
+        const GenCase g = gen::path_case(paths_.at(gen::path_index(at).path), gen::path_index(at).frame, pc.object);
+        faults[k] = make_fault(opt_, m, d_, at, g, fault_problem_[k], &pc);
+      } else {
+        faults[k] = make_fault(opt_, m, d_, at, cases_[at - first_], fault_problem_[k]);
+      }
     }
-    fault(opt_, m, d_, fault_index_, cases_[fault_index_ - first_], fault_problem_);
+    return faults;
   }
 
   // The oracle's distance (an exact QP for outside volumes) and the case scale, once per case that
   // some method got wrong, and the distance of each wrong verdict from the truth where a claim is
   // judged on it, in parallel: they depend on the case and the verdict, not on the method.
   void measure_errors() {
-    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, per_, 16), [&](const tbb::blocked_range<std::uint64_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, drawn_, 16), [&](const tbb::blocked_range<std::uint64_t>& r) {
       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
         CaseOutcome& o = out_[i];
+        if (!o.judged) continue;
         bool erred = false;
         for (std::size_t k = 0; k < ms_.size(); ++k) {
           const std::int8_t v = o.verdict[k];
@@ -261,6 +305,7 @@ class DistributionRun {
     const Method& m = ms_[k];
     MethodStats s;
     s.method = m.name;
+    s.program = m.program;
     s.claim = m.claim;
     s.origin = m.origin;
     s.three_way = m.three_way;
@@ -269,8 +314,9 @@ class DistributionRun {
     // Claim violations per class: (allowances beyond which the error lies, case).
     constexpr double kUnbounded = std::numeric_limits<double>::infinity();
     std::map<ErrorClass, std::vector<std::pair<double, std::uint64_t>>> violating;
-    for (std::uint64_t i = 0; i < per_; ++i) {
-      if (out_[i].verdict[k] < 0) continue;
+    const std::uint64_t fault_at = fault_at_[k].load();
+    for (std::uint64_t i = 0; i < drawn_ && first_ + i < fault_at; ++i) {
+      if (!out_[i].judged || out_[i].verdict[k] < 0) continue;
       const Visibility t = out_[i].truth;
       ++s.cases;
       (t == Visibility::outside ? s.truth_outside : t == Visibility::inside ? s.truth_inside : s.truth_intersecting)++;
@@ -286,7 +332,10 @@ class DistributionRun {
           violates_claim(m.claim, cls, judged_distance(k, i, cls), m.tolerance, out_[i].scale, out_[i].float_exact);
       if (violation && out_[i].float_exact) ++s.float_exact_violations;
       if (violation) ++s.claim_violations;
-      if (violation && !s.first_violation) s.first_violation = first_ + i;
+      if (violation && !s.first_violation) {
+        s.first_violation = first_ + i;
+        s.first_violation_reproduce = reproduce_command(opt_.seed, d_, first_ + i, m);
+      }
       if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(out_[i].distance / cases_[i].scene_size);
       // Corpus: corpus_per_class of the errors a claim allows (the expected false intersects and
       // under-insides of conservative methods), the first ones; the claim violations are chosen
@@ -340,8 +389,11 @@ class DistributionRun {
     try {
       vs = path ? checked_classify_path(m, *path) : run_method(m, small);
     } catch (const std::exception& e) {
-      progress_.finish();
-      fault(opt_, m, d_, first_ + i, small, e.what(), path ? &*path : nullptr);
+      // The case shrunk from case i makes the method fault: that case is the fault's.
+      if (!s.fault)
+        s.fault = make_fault(opt_, m, d_, first_ + i, small,
+                             fmt::format("{} (on the case shrunk from case {})", e.what(), first_ + i), path ? &*path : nullptr);
+      return;
     }
     if (!vs) return;
     const CorpusRecord rec =
@@ -361,11 +413,11 @@ class DistributionRun {
   const bool on_paths_;
   std::vector<GenCase> cases_;
   std::vector<CaseOutcome> out_;
+  std::uint64_t drawn_ = 0;  // cases drawn (all of per_ unless stopped)
   std::map<std::uint64_t, gen::CameraPath> paths_;
   std::mutex fault_mutex_;
-  std::uint64_t fault_index_ = std::numeric_limits<std::uint64_t>::max();
-  std::size_t fault_method_ = 0;
-  std::string fault_problem_;
+  std::vector<std::atomic<std::uint64_t>> fault_at_;  // per method: the smallest index it faulted on
+  std::vector<std::string> fault_problem_;            // under fault_mutex_
 };
 
 }  // namespace
@@ -384,10 +436,20 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
 
   VerifyResult result;
   result.options = opt;
+  result.options.on_distribution = nullptr;
   Progress progress(opt.progress, (opt.only_index ? 1 : opt.cases) * opt.distributions.size());
   for (gen::Distribution d : opt.distributions) {
+    if (opt.stop && opt.stop->load()) {
+      result.interrupted = true;
+      break;
+    }
     progress.label(std::string(gen::to_string(d)));
     result.distributions.push_back(DistributionRun(opt, ms, d, progress).run());
+    if (opt.on_distribution) progress.print([&] { opt.on_distribution(result.distributions.back()); });
+    if (result.distributions.back().interrupted) {
+      result.interrupted = true;
+      break;
+    }
   }
   progress.finish();
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();

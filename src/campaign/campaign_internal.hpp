@@ -40,10 +40,12 @@ PathCase shrink_path(PathCase p, const Method& m, ErrorClass cls, Visibility tru
 
 // ---- Faults (faults.cpp)
 
-/// Saves the case that made a method fault and throws the MethodFault naming it. Faults are
-/// searched from the smallest case index, so the same seed reports the same case.
-[[noreturn]] void fault(const VerifyOptions& opt, const Method& m, gen::Distribution d, std::uint64_t index,
-                        const GenCase& g, const std::string& problem, const PathCase* path = nullptr);
+/// The fault of method `m` on case `index` of distribution `d` (`g`, or on a camera path `path`),
+/// the case saved under VerifyOptions::faults (or the corpus folder's faults/).
+MethodFault make_fault(const VerifyOptions& opt, const Method& m, gen::Distribution d, std::uint64_t index, const GenCase& g,
+                       const std::string& problem, const PathCase* path = nullptr);
+/// A fault while the method was timed (no case of the distribution to save).
+MethodFault timing_fault(const Method& m, const std::string& problem);
 
 // ---- Timing (timing.cpp)
 
@@ -79,16 +81,21 @@ class Progress {
   ~Progress() { finish(); }
   void add(std::uint64_t n) { done_.fetch_add(n, std::memory_order_relaxed); }
   void label(std::string s);
+  /// Runs `f` (which writes to stdout) with the progress line cleared, then draws it again.
+  void print(const std::function<void()>& f);
   void finish();
 
  private:
   void loop();
   void draw(bool last);
+  void draw_locked(bool last);
   bool on_;
   std::uint64_t total_;
   bool tty_;
   std::atomic<std::uint64_t> done_{0};
   std::mutex m_;
+  std::mutex out_;  // draw() and print() write one at a time
+  bool finished_ = false;
   std::condition_variable cv_;
   bool stop_ = false;
   std::string label_;

@@ -28,45 +28,69 @@ std::string ns(double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : 
 
 }  // namespace
 
-void print_tables(const VerifyResult& r, std::ostream& out) {
-  for (const auto& d : r.distributions) {
-    out << fmt::format("\n## {} ({} cases: {}; {} float-exact; oracle fallback to exact LP {:.1f}%)\n\n",
-                       gen::to_string(d.distribution), d.cases, gen::describe(d.distribution), d.float_exact_cases,
-                       d.oracle_calls ? 100.0 * double(d.oracle_fallbacks) / double(d.oracle_calls) : 0.0);
-    out << "| method | origin | claim | cases | false rejects | false inside | false-intersect % (95% CI) | under-inside % "
-           "| FI distance / scene (median / max) | set-up ns/frame | ns/test |\n";
-    out << "|---|---|---|---:|---:|---:|---|---:|---|---:|---:|\n";
-    for (const auto& m : d.methods) {
-      const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
-      std::string status = m.claim == Claim::none ? "none"
-                           : m.refuted()          ? fmt::format("{} REFUTED ({}{})", to_string(m.claim), m.claim_violations,
-                                                                m.float_exact_violations
-                                                                    ? fmt::format("; {} float-exact", m.float_exact_violations)
-                                                                    : std::string())
-                                                  : fmt::format("{} held", to_string(m.claim));
-      if (!m.three_way) status += ", two-way";
-      out << fmt::format("| {} | {} | {} | {} | {} | {} | {} ({}-{}) | {} | {} | {} | {}{}{} |\n", m.method,
-                         to_string(m.origin), status, m.cases, m.false_reject, m.false_inside,
-                         pct(m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0), pct(lo),
-                         pct(hi),
-                         m.three_way ? pct(m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0)
-                                     : std::string("-"),
-                         median_max(m.fi_distance), ns(m.ns_setup_per_frame), ns(m.ns_per_test),
-                         m.timed_batch ? " (batch)" : "",
-                         std::isfinite(m.ns_per_test_own) ? fmt::format("; own {:.1f}", m.ns_per_test_own) : std::string());
-    }
+void print_table(const DistributionResult& d, std::uint64_t seed, std::ostream& out) {
+  const std::string cut = d.interrupted ? fmt::format(" INTERRUPTED: {} of {} cases judged;", d.cases, d.cases_asked) : "";
+  out << fmt::format("\n## {} ({} cases:{} {}; {} float-exact; oracle fallback to exact LP {:.1f}%)\n\n",
+                     gen::to_string(d.distribution), d.cases, cut, gen::describe(d.distribution), d.float_exact_cases,
+                     d.oracle_calls ? 100.0 * double(d.oracle_fallbacks) / double(d.oracle_calls) : 0.0);
+  out << "| method | origin | claim | cases | false rejects | false inside | false-intersect % (95% CI) | under-inside % "
+         "| FI distance / scene (median / max) | set-up ns/frame | ns/test |\n";
+  out << "|---|---|---|---:|---:|---:|---|---:|---|---:|---:|\n";
+  for (const auto& m : d.methods) {
+    const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
+    std::string status = m.claim == Claim::none ? "none"
+                         : m.refuted()          ? fmt::format("{} REFUTED ({}{})", to_string(m.claim), m.claim_violations,
+                                                              m.float_exact_violations
+                                                                  ? fmt::format("; {} float-exact", m.float_exact_violations)
+                                                                  : std::string())
+                         : m.fault              ? fmt::format("{} not refuted before the fault", to_string(m.claim))
+                                                : fmt::format("{} held", to_string(m.claim));
+    if (!m.three_way) status += ", two-way";
+    if (m.fault)
+      status += m.fault->index ? fmt::format("; FAULT on case {}", *m.fault->index) : std::string("; FAULT while timed");
+    out << fmt::format("| {} | {} | {} | {} | {} | {} | {} ({}-{}) | {} | {} | {} | {}{}{} |\n", m.method,
+                       to_string(m.origin), status, m.cases, m.false_reject, m.false_inside,
+                       pct(m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0), pct(lo),
+                       pct(hi),
+                       m.three_way ? pct(m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0)
+                                   : std::string("-"),
+                       median_max(m.fi_distance), m.program.empty() ? ns(m.ns_setup_per_frame) : std::string("-"),
+                       ns(m.ns_per_test), m.timed_batch ? " (batch)" : "",
+                       std::isfinite(m.ns_per_test_own) ? fmt::format("; own {:.1f}", m.ns_per_test_own) : std::string());
   }
+  for (const auto& m : d.methods)
+    if (m.fault) out << "\nFAULT: " << m.fault->message(d.distribution, seed) << "\n";
+}
+
+void print_table_notes(const VerifyResult& r, std::ostream& out) {
   out << "\norigin: published = a text under test (a refuted claim is a finding); own = cullproof's, user = yours "
          "(a refuted claim fails the run).\n";
   out << "false-intersect % = false intersects / volumes truly outside; under-inside % = / volumes truly inside "
          "(two-way methods answer visible or outside: not charged).\n";
+  out << "FI distance = the oracle's distance from a falsely kept volume to the frustum over the scene size; inf: the "
+         "case's frustum, as its float values define it, is empty, so no distance to it is finite.\n";
   if (r.options.timing)
-    out << fmt::format("cost: set-up = prepare, once per frame; ns/test = classify per volume, {} frames of {} volumes "
+    out << fmt::format("cost: set-up = prepare, once per frame ('-' for a program's method: it prepares in its own "
+                       "process, inside ns/test); ns/test = classify per volume, {} frames of {} volumes "
                        "per distribution (camera-path: {} consecutive frames of one path, {} volumes each), through "
                        "the method's array form where it has one (batch); own = what a program reports of its own "
-                       "classification time over the same frames (docs/protocol.md).\n",
+                       "classification time over the same frames (docs/protocol.md); not timed ('-') after a fault "
+                       "or an interruption.\n",
                        r.options.timing_frames, r.options.frame_size, r.options.timing_frames, gen::kPathObjects);
+  if (r.faults() > 0)
+    out << "FAULT: a method broke the method interface; it was not asked again in that distribution and its counts there "
+           "are over the cases before its fault (the run fails).\n";
+  if (r.interrupted) {
+    std::size_t missing = r.options.distributions.size() - r.distributions.size();
+    out << fmt::format("INTERRUPTED: the run was stopped; the counts are over the cases judged{}.\n",
+                       missing ? fmt::format(", and {} distribution(s) were not run", missing) : std::string());
+  }
   out << fmt::format("wall time {:.1f} s\n", r.wall_seconds);
+}
+
+void print_tables(const VerifyResult& r, std::ostream& out) {
+  for (const auto& d : r.distributions) print_table(d, r.options.seed, out);
+  print_table_notes(r, out);
 }
 
 namespace {
@@ -108,13 +132,17 @@ nlohmann::json to_json(const VerifyResult& r) {
   j["seed"] = r.options.seed;
   j["cases_per_distribution"] = r.options.only_index ? 1 : r.options.cases;
   j["wall_seconds"] = r.wall_seconds;
-  j["claim_broken"] = r.claim_broken();
+  j["failed"] = r.failed();
+  j["faults"] = r.faults();
+  j["interrupted"] = r.interrupted;
   j["frame_size"] = r.options.frame_size;
   j["timing_frames"] = r.options.timing_frames;
   for (const auto& d : r.distributions) {
     nlohmann::json jd;
     jd["distribution"] = std::string(gen::to_string(d.distribution));
     jd["cases"] = d.cases;
+    jd["cases_asked"] = d.cases_asked;
+    jd["interrupted"] = d.interrupted;
     jd["oracle_calls"] = d.oracle_calls;
     jd["oracle_fallbacks"] = d.oracle_fallbacks;
     jd["float_exact_cases"] = d.float_exact_cases;
@@ -122,7 +150,15 @@ nlohmann::json to_json(const VerifyResult& r) {
       const auto [lo, hi] = wilson95(m.false_intersect, m.truth_outside);
       std::vector<double> dist = m.fi_distance;
       std::sort(dist.begin(), dist.end());
+      nlohmann::json fault = nullptr;
+      if (m.fault)
+        fault = {{"problem", m.fault->problem},
+                 {"index", m.fault->index ? nlohmann::json(*m.fault->index) : nlohmann::json(nullptr)},
+                 {"reproduce", m.fault->index ? nlohmann::json(m.fault->reproduce) : nlohmann::json(nullptr)},
+                 {"saved", m.fault->saved ? nlohmann::json(m.fault->saved->string()) : nlohmann::json(nullptr)},
+                 {"case", m.fault->failing_case}};
       jd["methods"].push_back({{"method", m.method},
+                               {"program", m.program.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.program)},
                                {"claim", std::string(to_string(m.claim))},
                                {"origin", std::string(to_string(m.origin))},
                                {"three_way", m.three_way},
@@ -130,6 +166,8 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"claim_violations", m.claim_violations},
                                {"float_exact_violations", m.float_exact_violations},
                                {"first_violation", m.first_violation ? nlohmann::json(*m.first_violation) : nlohmann::json(nullptr)},
+                               {"first_violation_reproduce", m.first_violation ? nlohmann::json(m.first_violation_reproduce) : nlohmann::json(nullptr)},
+                               {"fault", fault},
                                {"cases", m.cases},
                                {"truth", {{"outside", m.truth_outside}, {"intersecting", m.truth_intersecting}, {"inside", m.truth_inside}}},
                                {"false_reject", m.false_reject},
@@ -153,6 +191,13 @@ nlohmann::json to_json(const VerifyResult& r) {
     j["distributions"].push_back(jd);
   }
   return j;
+}
+
+std::size_t VerifyResult::faults() const noexcept {
+  std::size_t n = 0;
+  for (const auto& d : distributions)
+    for (const auto& m : d.methods) n += m.fault.has_value();
+  return n;
 }
 
 bool VerifyResult::claim_broken() const noexcept {

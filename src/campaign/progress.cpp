@@ -18,6 +18,14 @@ void Progress::label(std::string s) {
   label_ = std::move(s);
 }
 
+void Progress::print(const std::function<void()>& f) {
+  std::lock_guard<std::mutex> g(out_);
+  if (on_ && tty_ && !finished_) std::cerr << "\r\033[K" << std::flush;
+  f();
+  std::cout << std::flush;
+  if (on_ && tty_ && !finished_) draw_locked(false);
+}
+
 void Progress::finish() {
   if (!thread_.joinable()) return;
   {
@@ -26,7 +34,9 @@ void Progress::finish() {
   }
   cv_.notify_all();
   thread_.join();
-  draw(true);
+  std::lock_guard<std::mutex> g(out_);
+  draw_locked(true);
+  finished_ = true;
 }
 
 void Progress::loop() {
@@ -41,6 +51,11 @@ void Progress::loop() {
 }
 
 void Progress::draw(bool last) {
+  std::lock_guard<std::mutex> g(out_);
+  draw_locked(last);
+}
+
+void Progress::draw_locked(bool last) {
   const std::uint64_t d = std::min(done_.load(), total_);
   const double f = total_ ? double(d) / double(total_) : 1.0;
   const double secs = std::chrono::duration<double>(Clock::now() - start_).count();

@@ -134,12 +134,9 @@ VerifyResult verify_methods(const std::vector<Method>& methods, const ClaimOptio
   for (const std::string& n : options.beside)
     if (const Method* b = find_builtin(n); b && n != method.name) ms.push_back(*b);
   const VerifyOptions vo = options_of(options);
-  VerifyResult r;
-  try {
-    r = run_verify(vo, ms);
-  } catch (const MethodFault& f) {
-    return ::testing::AssertionFailure() << "cullproof: FAULT: " << f.what();
-  }
+  const VerifyResult r = run_verify(vo, ms);
+  for (const DistributionResult& d : r.distributions)
+    if (d.methods[0].fault) return ::testing::AssertionFailure() << "cullproof: FAULT: " << d.methods[0].fault->message(d.distribution, vo.seed);
   std::uint64_t cases = 0, violations = 0;
   std::set<std::string> ids;
   std::string counts;

@@ -13,7 +13,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -82,19 +84,73 @@ std::string frustum_text(const CaseFrustum& f) {
 
 using protocol::excerpt;
 
-// The running program: one request at a time (the methods' calls are serialised here).
+// A word of a command line as a POSIX shell reads it back: bare when it holds only characters no
+// shell treats specially, else in single quotes.
+std::string shell_word(const std::string& w) {
+  const bool bare = !w.empty() && std::all_of(w.begin(), w.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("-_./=:,+@%", c) != nullptr;
+  });
+  if (bare) return w;
+  std::string q = "'";
+  for (char c : w) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// The running program: one request at a time (the methods' calls are serialised here). After a
+// fault the program is stopped; a method's program is started again for the next call (restart),
+// a system's is not (its state is gone).
 class Process {
  public:
   explicit Process(ExternalOptions o) : opt_(std::move(o)) {
     if (opt_.command.empty()) throw std::runtime_error("external: no program given");
-    name_ = opt_.command[0];
-    for (std::size_t i = 1; i < opt_.command.size(); ++i) name_ += " " + opt_.command[i];
+    name_ = shell_word(opt_.command[0]);
+    for (std::size_t i = 1; i < opt_.command.size(); ++i) name_ += " " + shell_word(opt_.command[i]);
+    start();
+  }
+  ~Process() { stop(/*polite=*/true); }
+  const std::string& name() const { return name_; }
+
+  // The handshake line, within the handshake's own time limit.
+  std::string read_handshake() {
+    return read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake", opt_.handshake_timeout,
+                     "--external-handshake-timeout");
+  }
+
+  // Starts the program again after a fault: the same handshake must come back. Calls that follow
+  // see a fresh program (generation() counts the starts, so that a stateful method's next frame
+  // says reset).
+  void restart(const std::string& expected_handshake) {
+    const std::string after = dead_;
+    stop(/*polite=*/false);
+    dead_.clear();
+    buffer_.clear();
+    try {
+      start();
+      const std::string h = read_handshake();
+      if (h != expected_handshake)
+        fail("offered another handshake when started again than at first: " + excerpt(h));
+    } catch (const std::runtime_error& e) {
+      if (dead_.empty()) dead_ = e.what();
+      throw std::runtime_error(fmt::format("external program '{}' could not be started again after a fault ({}): {}", name_,
+                                           excerpt(after), e.what()));
+    }
+    ++generation_;
+    next_frame = 1;  // a new process: its frames are numbered from 1 again
+  }
+  bool dead() const { return !dead_.empty(); }
+  std::uint64_t generation() const { return generation_; }
+
+ private:
+  void start() {
     int in[2], out[2];
     if (::pipe(in) != 0 || ::pipe(out) != 0) throw std::runtime_error("external: cannot make pipes: " + std::string(std::strerror(errno)));
     std::signal(SIGPIPE, SIG_IGN);
     pid_ = ::fork();
     if (pid_ < 0) throw std::runtime_error("external: cannot fork: " + std::string(std::strerror(errno)));
     if (pid_ == 0) {
+      // Its own process group: a Ctrl-C at the terminal stops cullproof (which then reports what
+      // was judged and ends the program), not the program in the middle of an answer.
+      ::setpgid(0, 0);
       ::dup2(in[0], 0);
       ::dup2(out[1], 1);
       ::close(in[0]), ::close(in[1]), ::close(out[0]), ::close(out[1]);
@@ -111,27 +167,37 @@ class Process {
     from_ = out[0];
     ::fcntl(to_, F_SETFL, ::fcntl(to_, F_GETFL) | O_NONBLOCK);  // writes wait with the timeout too
   }
-  ~Process() {
+
+  // Ends the program: politely (bye, its input closed, half a second to exit) or at once.
+  void stop(bool polite) {
     if (to_ >= 0) {
-      (void)write_all("{\"bye\": true}\n");
+      if (polite) (void)write_all("{\"bye\": true}\n");
       ::close(to_);
+      to_ = -1;
     }
     if (from_ >= 0) ::close(from_);
+    from_ = -1;
     if (pid_ > 0) {
       int status = 0;
-      for (int i = 0; i < 50 && ::waitpid(pid_, &status, WNOHANG) == 0; ++i) ::usleep(10000);
+      for (int i = 0; polite && i < 50 && ::waitpid(pid_, &status, WNOHANG) == 0; ++i) ::usleep(10000);
       if (::waitpid(pid_, &status, WNOHANG) == 0) {
         ::kill(pid_, SIGKILL);
         ::waitpid(pid_, &status, 0);
       }
+      pid_ = -1;
     }
   }
-  const std::string& name() const { return name_; }
 
-  // Reads one line of at most `max_bytes` within the timeout; throws naming `what` was awaited
-  // (and, for a longer line, `line_name` and `limit`: "its handshake", "a handshake").
+ public:
+  // Reads one line of at most `max_bytes` within `timeout`; throws naming `what` was awaited
+  // (and, for a longer line, `line_name` and `limit`: "its handshake", "a handshake"; for no
+  // answer in time, the option that sets the limit).
   std::string read_line(const std::string& what, std::size_t max_bytes, const std::string& line_name,
                         const std::string& limit) {
+    return read_line(what, max_bytes, line_name, limit, opt_.timeout, "--external-timeout");
+  }
+  std::string read_line(const std::string& what, std::size_t max_bytes, const std::string& line_name,
+                        const std::string& limit, std::chrono::milliseconds timeout, const char* option) {
     std::size_t scanned = 0;  // the first `scanned` bytes of buffer_ hold no '\n'
     for (;;) {
       const auto nl = buffer_.find('\n', scanned);
@@ -145,9 +211,8 @@ class Process {
                          excerpt(buffer_)));
       scanned = buffer_.size();
       pollfd p{from_, POLLIN, 0};
-      const int r = ::poll(&p, 1, int(opt_.timeout.count()));
-      if (r == 0)
-        fail(fmt::format("no answer within {} ms to {} (hung? the timeout is --external-timeout)", opt_.timeout.count(), what));
+      const int r = ::poll(&p, 1, int(timeout.count()));
+      if (r == 0) fail(fmt::format("no answer within {} ms to {} (hung? the limit is {})", timeout.count(), what, option));
       if (r < 0) fail("cannot read its output: " + std::string(std::strerror(errno)));
       char chunk[65536];
       const ssize_t n = ::read(from_, chunk, sizeof chunk);
@@ -160,10 +225,11 @@ class Process {
     if (!write_all(line + "\n")) fail(fmt::format("exited{} or stopped reading before it read {}", exit_status(), what));
   }
 
-  // After a fault the program is not asked again: every later call fails at once (the run stops
-  // at the fault with the smallest case index, which may be an earlier case on another thread).
+  // A fault: the program is stopped at once (a hung one too) and the call that met it throws;
+  // only that call's method is at fault (restart() serves the next).
   [[noreturn]] void fail(const std::string& why) {
     if (dead_.empty()) dead_ = why;
+    stop(/*polite=*/false);
     throw std::runtime_error("external program '" + name_ + "': " + why);
   }
   void check_alive() {
@@ -175,6 +241,7 @@ class Process {
 
  private:
   std::string dead_;
+  std::uint64_t generation_ = 0;
   // False when the program is gone or has not read its input within the timeout.
   bool write_all(const std::string& s) {
     std::size_t done = 0;
@@ -211,15 +278,18 @@ class Process {
 
 struct External {
   std::vector<std::shared_ptr<Process>> processes;  // the program's copies; [0] for stateful methods
+  std::string handshake;                            // what every copy offered, and must offer again
   std::string method;
   bool stateful = false;
   bool wants_reset = false;   // set by reset(): the next frame starts a camera path
   bool wants_matrix = false;  // asked only about frusta given by a clip matrix
+  unsigned depths = 0xF;      // the depth conventions it reads (protocol::depth_convention_bit)
   // What the program reported of its own time ("ns" in answers), under own_mutex.
   std::mutex own_mutex;
   double own_ns = 0.0;
   std::uint64_t own_volumes = 0;
   std::atomic<std::size_t> next{0};  // where the search for a free copy starts
+  std::uint64_t generation = 0;      // of processes[0], when a stateful method last asked it
 
   // A copy to ask, locked: the first copy for a stateful method, else the first free one from a
   // rotating start, else (all busy) the next in turn, waited for.
@@ -238,7 +308,11 @@ struct External {
 // One frame message and its answer: verdicts for `volumes`, in order.
 void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::size_t n, Answer* out) {
   auto [p, lock] = e.acquire();
-  p.check_alive();
+  if (p.dead()) p.restart(e.handshake);
+  if (e.stateful && p.generation() != e.generation) {
+    e.wants_reset = true;  // a program started again has forgotten every frame
+    e.generation = p.generation();
+  }
   const std::uint64_t id = p.next_frame++;
   std::string msg = fmt::format("{{\"frame\": {}, \"method\": {}, ", id, json(e.method).dump());
   if (e.wants_reset) msg += "\"reset\": true, ";
@@ -398,7 +472,7 @@ class ExternalSystemState final : public SystemState {
 
 std::vector<System> external_systems(const ExternalOptions& options) {
   auto process = std::make_shared<Process>(options);
-  const std::string handshake = process->read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake");
+  const std::string handshake = process->read_handshake();
   std::vector<System> out;
   for (SystemInfo& info : protocol::parse_offered_systems(handshake, process->name())) {
     info.program = process->name();
@@ -418,7 +492,7 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
   std::vector<std::string> handshakes;
   for (int i = 0; i < options.instances; ++i) {
     processes.push_back(std::make_shared<Process>(options));
-    handshakes.push_back(processes.back()->read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake"));
+    handshakes.push_back(processes.back()->read_handshake());
     if (handshakes.back() != handshakes[0])
       processes.back()->fail(fmt::format("copy {} of the program offered another handshake than the first: {}", i + 1,
                                          excerpt(handshakes.back())));
@@ -430,13 +504,16 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
     info.program = process->name();
     auto e = std::make_shared<External>();
     e->processes = processes;
+    e->handshake = handshakes[0];
     e->method = info.name;
     e->stateful = info.stateful;
     e->wants_matrix = offered.wants_matrix;
+    e->depths = offered.depths;
     Method method(
         info,
         [e](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> {
           if (e->wants_matrix && !f.matrix) return nullptr;  // does not apply: the case gives planes only
+          if (e->wants_matrix && !(e->depths & protocol::depth_convention_bit(f.depth))) return nullptr;  // a convention it does not read
           return std::make_unique<Prepared>(e, f);
         },
         /*batch=*/true);

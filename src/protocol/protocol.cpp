@@ -10,8 +10,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <set>
 #include <stdexcept>
+#include <vector>
 
 namespace cullproof::protocol {
 
@@ -53,6 +55,17 @@ unsigned kinds_of(const json& j, const std::string& where) {
   return k;
 }
 
+// Refuses a field of `m` not in `known` (a misspelt "claim" would otherwise leave the claim
+// `none`, which nothing can refute).
+void known_fields(const json& m, const std::vector<const char*>& known, const std::string& what, const std::string& at) {
+  for (const auto& item : m.items()) {
+    if (std::any_of(known.begin(), known.end(), [&](const char* k) { return item.key() == k; })) continue;
+    std::string list;
+    for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+    throw std::runtime_error(fmt::format("{}: unknown field {} ({}: {})", at, excerpt(json(item.key()).dump()), what, list));
+  }
+}
+
 // The handshake line as JSON, its version checked (1 or 2); `version` gets it.
 json read_handshake(std::string_view line, const std::string& program, int& version) {
   const std::string who = "external program '" + program + "': ";
@@ -81,6 +94,8 @@ json read_handshake(std::string_view line, const std::string& program, int& vers
   if (!methods && !systems) throw std::runtime_error(where + ": neither \"methods\" nor \"systems\" offered");
   if (h.contains("methods") && !h["methods"].is_array()) throw std::runtime_error(where + ": \"methods\" is not an array");
   if (h.contains("systems") && !h["systems"].is_array()) throw std::runtime_error(where + ": \"systems\" is not an array");
+  known_fields(h, version >= 2 ? std::vector<const char*>{"protocol", "methods", "systems"} : std::vector<const char*>{"protocol", "methods"},
+               fmt::format("a version-{} handshake's fields", version), where);
   return h;
 }
 
@@ -138,14 +153,37 @@ std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::str
     MethodInfo& info = o.info;
     info.name = name_of(m, names, at);
     read_description(m, info, program, at);
+    known_fields(m,
+                 {"name", "description", "source", "claim", "tolerance", "volumes", "three_way", "touching", "origin",
+                  "stateful", "frustum", "depth"},
+                 "a method's fields", at);
     info.stateful = bool_field(m, "stateful", false, at);
     const std::string frustum = string_field(m, "frustum", "planes", at);
     if (frustum == "matrix") o.wants_matrix = true;
     else if (frustum != "planes")
       throw std::runtime_error(at + ": \"frustum\" " + excerpt(json(frustum).dump()) + " is not \"planes\" or \"matrix\"");
+    if (const auto d = m.find("depth"); d != m.end()) {
+      if (!o.wants_matrix) throw std::runtime_error(at + ": \"depth\" is declared by a method with \"frustum\": \"matrix\" only");
+      static const char* kNames[] = {"negative_one_to_one", "zero_to_one", "reversed_negative_one_to_one", "reversed_zero_to_one"};
+      const std::string kinds = "negative_one_to_one, zero_to_one, reversed_negative_one_to_one, reversed_zero_to_one";
+      if (!d->is_array() || d->empty())
+        throw std::runtime_error(at + ": \"depth\" must be a non-empty array of depth conventions (" + kinds + ")");
+      o.depths = 0;
+      for (const json& x : *d) {
+        unsigned bit = 0;
+        for (unsigned k = 0; k < 4; ++k)
+          if (x.is_string() && x.get<std::string>() == kNames[k]) bit = 1u << k;
+        if (!bit) throw std::runtime_error(at + ": \"depth\" " + excerpt(x.dump()) + " is not a depth convention (" + kinds + ")");
+        o.depths |= bit;
+      }
+    }
     out.push_back(std::move(o));
   }
   return out;
+}
+
+unsigned depth_convention_bit(const DepthConvention& d) noexcept {
+  return (d.range == DepthRange::negative_one_to_one ? 1u : 2u) << (d.reversed_z ? 2 : 0);
 }
 
 std::vector<SystemInfo> parse_offered_systems(std::string_view line, const std::string& program) {
@@ -154,19 +192,14 @@ std::vector<SystemInfo> parse_offered_systems(std::string_view line, const std::
   const std::string where = "external program '" + program + "': handshake";
   std::vector<SystemInfo> out;
   if (version < 2 || !h.contains("systems")) return out;
-  static const std::set<std::string> kFields = {"name", "description", "source", "claim", "tolerance",
-                                                "volumes", "three_way", "touching", "origin"};
   std::set<std::string> names;
   for (std::size_t i = 0; i < h["systems"].size(); ++i) {
     const json& m = h["systems"][i];
     const std::string at = fmt::format("{}, systems[{}]", where, i);
     SystemInfo info;
     info.name = name_of(m, names, at);
-    for (const auto& [key, value] : m.items())
-      if (!kFields.count(key))
-        throw std::runtime_error(fmt::format("{}: unknown field {} (a system's fields: name, description, source, claim, "
-                                             "tolerance, volumes, three_way, touching, origin)",
-                                             at, excerpt(json(key).dump())));
+    known_fields(m, {"name", "description", "source", "claim", "tolerance", "volumes", "three_way", "touching", "origin"},
+                 "a system's fields", at);
     read_description(m, info, program, at);
     out.push_back(std::move(info));
   }

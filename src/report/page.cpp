@@ -109,7 +109,7 @@ std::string summary_html(const Summary& s, const std::set<std::string>& shown_ca
   } else {
     h += fmt::format("<p id=\"claims-verdict\"><span class=\"refuted\">{} of {} methods' claims were refuted.</span>{}</p>\n",
                      s.broken.size(), s.methods.size(),
-                     s.claim_broken ? " A claim of one of cullproof's own methods or of a user's method broke: the run failed."
+                     s.own_claim_broken() ? " A claim of one of cullproof's own methods or of a user's method broke: the run failed."
                                     : " All of them are published methods under test: findings, not failures.");
     h += "<table id=\"broken-claims\"><tr><th>method</th><th>origin</th><th>claim</th><th>family</th>"
          "<th>claim-breaking cases</th><th>corpus cases</th><th>rerun the first</th></tr>\n";

@@ -71,7 +71,11 @@ int kind_rank(const std::string& k) {
 }  // namespace
 
 bool on_front(const MethodOverall& m) {
-  return m.claim != "none" && !m.refuted && m.ns_per_test && m.truth_outside > 0;
+  return m.claim != "none" && !m.refuted && !m.faulted && m.ns_per_test && m.truth_outside > 0;
+}
+
+bool Summary::own_claim_broken() const noexcept {
+  return std::any_of(broken.begin(), broken.end(), [](const BrokenClaim& b) { return b.origin != "published"; });
 }
 
 std::optional<double> median(std::vector<double> values) {
@@ -99,7 +103,8 @@ Summary summarize(const nlohmann::json& verify) {
   Summary s;
   s.seed = count_field(verify, "seed", "result");
   s.cases_per_distribution = count_field(verify, "cases_per_distribution", "result");
-  s.claim_broken = flag(verify, "claim_broken", "result");
+  s.failed = flag(verify, "failed", "result");
+  s.interrupted = flag(verify, "interrupted", "result");
   const nlohmann::json& dists = field(verify, "distributions", "result");
   if (!dists.is_array()) throw ResultError("result.distributions: expected an array");
 
@@ -146,6 +151,20 @@ Summary summarize(const nlohmann::json& verify) {
       const std::uint64_t violations = count_field(j, "claim_violations", w);
       m.claim_violations += violations;
       if (flag(j, "refuted", w)) m.refuted = true;
+      if (const nlohmann::json& fault = field(j, "fault", w); !fault.is_null()) {
+        const std::string fw = w + ".fault";
+        if (!fault.is_object()) throw ResultError(fw + ": expected an object or null");
+        m.faulted = true;
+        FaultLine f;
+        f.method = name;
+        f.family = family;
+        f.problem = text_field(fault, "problem", fw);
+        if (!field(fault, "index", fw).is_null()) {
+          f.index = count_field(fault, "index", fw);
+          f.reproduce = text_field(fault, "reproduce", fw);
+        }
+        s.faults.push_back(std::move(f));
+      }
       if (const auto x = measure_field(j, "ns_per_test", w)) a.ns.push_back(*x);
       if (const auto x = measure_field(j, "ns_per_test_own", w)) a.ns_own.push_back(*x);
       if (violations) {
@@ -156,8 +175,7 @@ Summary summarize(const nlohmann::json& verify) {
         const nlohmann::json& first = field(j, "first_violation", w);
         if (!first.is_null()) {
           f.first_violation = count_field(j, "first_violation", w);
-          f.reproduce = fmt::format("cullproof verify --seed {} --distribution {} --index {} --method {}", s.seed,
-                                    family, *f.first_violation, name);
+          f.reproduce = text_field(j, "first_violation_reproduce", w);
         }
         f.corpus_ids = strings(j, "violation_ids", w);
         a.broken.violations += violations;
@@ -228,6 +246,15 @@ void print_summary(const Summary& s, std::ostream& out) {
       }
     }
   }
+  if (!s.faults.empty()) {
+    out << fmt::format("faults: {} (a faulted method's counts stop at its fault; it is not on the fronts below)\n", s.faults.size());
+    for (const FaultLine& f : s.faults) {
+      out << fmt::format("  {} on {}{}: {}\n", f.method, f.family,
+                         f.index ? fmt::format(", case {}", *f.index) : std::string(", while timed"), f.problem);
+      if (!f.reproduce.empty()) out << "      reproduce: " << f.reproduce << "\n";
+    }
+  }
+  if (s.interrupted) out << "interrupted: the counts are over the cases judged before the run was stopped\n";
   out << "cheapest method for each level of accuracy (a claim made and held; false intersects / truly outside volumes over every "
          "family; cost: median ns/test over families, set-up hoisted):\n";
   for (const VolumeGroup& g : s.cheapest) {

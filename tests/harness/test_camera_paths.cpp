@@ -257,19 +257,22 @@ TEST(CameraPaths, AFaultOnAPathNamesTheFrameAndSavesThePath) {
   m.on_reset([frames] { *frames = 0; });
   VerifyOptions o = path_run(gen::kPathFrames * gen::kPathObjects);
   o.faults = dir;
-  try {
-    run_verify(o, {m});
-    FAIL() << "the fault was not reported";
-  } catch (const MethodFault& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("cache overflow"), std::string::npos) << what;
-    EXPECT_NE(what.find("camera path frame 3"), std::string::npos) << what;
-    ASSERT_TRUE(e.saved());
-    const Case c = read_case_file(*e.saved());
-    const PathCase p = path_from_json(c.extra.at("path"), e.saved()->string());
-    EXPECT_EQ(p.frames.size(), 4u);
-    EXPECT_EQ(format_frustum(p.frustum()), format_frustum(c.frustum));
-  }
+  const VerifyResult r = run_verify(o, {m});
+  ASSERT_TRUE(r.distributions[0].methods[0].fault) << "the fault was not reported";
+  const MethodFault& e = *r.distributions[0].methods[0].fault;
+  const std::string what = e.message(r.distributions[0].distribution, o.seed);
+  EXPECT_NE(what.find("cache overflow"), std::string::npos) << what;
+  EXPECT_NE(what.find("camera path frame 3"), std::string::npos) << what;
+  ASSERT_TRUE(e.saved);
+  const Case c = read_case_file(*e.saved);
+  const PathCase p = path_from_json(c.extra.at("path"), e.saved->string());
+  EXPECT_EQ(p.frames.size(), 4u);
+  EXPECT_EQ(format_frustum(p.frustum()), format_frustum(c.frustum));
+  // Frame 3 of the first path: the method's counts are over its first three frames.
+  ASSERT_TRUE(e.index);
+  EXPECT_EQ(gen::path_index(*e.index).path, 0u);
+  EXPECT_EQ(gen::path_index(*e.index).frame, 3u);
+  EXPECT_LE(r.distributions[0].methods[0].cases, *e.index);
   std::filesystem::remove_all(dir);
 }
 

@@ -3,19 +3,15 @@
 #   holds    the adapter holds its claim: exit 0, "every system held its claim";
 #   refuted  its planted bug (drop-near): exit 1, the shrunk run recorded, a reproduce line that
 #            names the program;
-#   fault    it crashes on the scene message: exit 2, the fault named, the run saved; a built-in
+#   fault    it crashes on the scene message: exit 3, the fault named, the run saved; a built-in
 #            system run beside it is judged to the end and its table printed and in the JSON.
 set -uo pipefail
 cullproof=$1
 adapter=$2
 mode=$3
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+name=cli_systems
+source "$(dirname "$0")/cli_common.sh"
 short=(--runs 2 --objects 100 --frames 6 --external reference-flat --corpus "$out")
-expect() {  # expect STATUS PATTERN: the run's exit status and a line of its output
-  if [ "$status" -ne "$1" ]; then echo "cli_systems: exit status $status, expected $1" >&2; exit 1; fi
-  if ! grep -Eq -- "$2" <<< "$log"; then echo "cli_systems: no line matching: $2" >&2; exit 1; fi
-}
 case "$mode" in
   holds)
     log=$("$cullproof" systems "${short[@]}" -- "$adapter" 2>&1); status=$?
@@ -47,9 +43,9 @@ case "$mode" in
     log=$("$cullproof" systems "${short[@]}" --system bvh-masked --family clusters --family straddling --json "$out/r.json" \
       -- "$adapter" crash-on-scene 2>&1); status=$?
     echo "$log"
-    expect 2 "FAULT: system 'reference-flat' threw in build on frame 0: .*before answering scene message 1"
-    expect 2 "reference-flat faulted: system 'reference-flat' threw in build"
-    expect 2 "^  straddling +2 +1200 +0 "
+    expect 3 "FAULT: system 'reference-flat' threw in build on frame 0: .*before answering scene message 1"
+    expect 3 "reference-flat faulted: system 'reference-flat' threw in build"
+    expect 3 "^  straddling +2 +1200 +0 "
     ls "$out"/systems/faults/reference-flat/clusters-0.json > /dev/null || { echo "cli_systems: the run was not saved" >&2; exit 1; }
     grep -q '"fault": "system .reference-flat. threw in build' "$out/r.json" || { echo "cli_systems: no fault in the JSON" >&2; exit 1; }
     grep -q '"system": "bvh-masked"' "$out/r.json" || { echo "cli_systems: bvh-masked missing from the JSON" >&2; exit 1; }

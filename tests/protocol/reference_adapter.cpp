@@ -7,11 +7,15 @@
 // reject-touching (`<= 0` rejects),
 // which the verifier must find through the protocol as it does in process. `published` declares
 // the method a text under test, `matrix` asks for matrix frusta only, `unstable` describes itself
-// differently in every process. It reports its own time.
+// differently in every process. `several` offers two more methods beside it: the same test as
+// `reference-fragile`, which aborts (signal 6) on a box whose min.x, as a float, has bits divisible
+// by 61 (a known set of cases), and the two-way `reference-p-vertex`. It reports its own time.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -40,6 +44,14 @@ int main(int argc, char** argv) {
                    {"origin", is("published") ? "published" : is("bad-origin") ? "own" : "user"},
                    {"description", is("unstable") ? "process " + std::to_string(::getpid()) : "the n/p-vertex test"},
                    {"frustum", is("matrix") ? "matrix" : "planes"}}}}};
+  if (is("several")) {
+    json fragile = hello["methods"][0], two_way = hello["methods"][0];
+    fragile["name"] = "reference-fragile";
+    two_way["name"] = "reference-p-vertex";
+    two_way["three_way"] = false;
+    hello["methods"].push_back(fragile);
+    hello["methods"].push_back(two_way);
+  }
   if (is("long-handshake")) hello["methods"][0]["description"] = std::string(2 << 20, 'x');
   if (is("deep-handshake")) hello["methods"][0]["more"] = json::parse(std::string(100, '[') + std::string(100, ']'));
   std::cout << hello.dump() << "\n" << std::flush;
@@ -74,10 +86,14 @@ int main(int argc, char** argv) {
     }
     json verdicts = json::array();
     const auto start = std::chrono::steady_clock::now();
+    const std::string method = m["method"];
     for (const json& v : m["volumes"]) {
       const json& b = v["aabb"];
       float lo[3], hi[3];
       for (int i = 0; i < 3; ++i) lo[i] = float(b["min"][i].get<double>()), hi[i] = float(b["max"][i].get<double>());
+      std::uint32_t bits = 0;
+      std::memcpy(&bits, &lo[0], sizeof bits);
+      if (method == "reference-fragile" && bits % 61 == 0) std::abort();
       bool inside = true, outside = false;
       for (const json& p : m["frustum"]["planes"]) {
         float n[3], d = float(p[3].get<double>());
@@ -93,7 +109,7 @@ int main(int argc, char** argv) {
         }
         if (nv < 0) inside = false;
       }
-      verdicts.push_back(outside ? "outside" : inside ? "inside" : "intersecting");
+      verdicts.push_back(outside ? "outside" : inside && method != "reference-p-vertex" ? "inside" : "intersecting");
     }
     const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
     if (frames == 3 && is("wrong-count")) verdicts.push_back("outside");

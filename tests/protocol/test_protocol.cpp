@@ -3,14 +3,19 @@
 // test; adapters that crash, hang, miscount, print garbage, answer an unknown verdict or out of
 // order are each stopped with the documented error and the case saved.
 #include "cullproof/campaign/campaign.hpp"
+#include "cullproof/core/cull.hpp"
 #include "cullproof/protocol/external.hpp"
 #include "cullproof/protocol/protocol.hpp"
+#include "cullproof/io/case_io.hpp"
+
+#include <fmt/format.h>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 namespace cullproof {
@@ -33,6 +38,111 @@ VerifyOptions small_run() {
   o.progress = false;
   o.timing = false;
   return o;
+}
+
+// The cases on which the adapter's `reference-fragile` aborts (reference_adapter.cpp, `several`):
+// boxes whose min.x has float bits divisible by 61.
+bool fragile_on(const Volume& v) {
+  const Aabb* b = std::get_if<Aabb>(&v);
+  if (!b) return false;
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &b->min.x, sizeof bits);
+  return bits % 61 == 0;
+}
+
+struct FragileCase {
+  std::uint64_t index = 0;       // the first case it faults on
+  std::uint64_t boxes_before = 0;  // the boxes before it (the cases its counts are over)
+};
+
+FragileCase first_fragile(gen::Distribution d, std::uint64_t seed, std::uint64_t cases) {
+  FragileCase f;
+  for (std::uint64_t i = 0; i < cases; ++i) {
+    const Volume v = gen::draw(d, seed, i).value().volume;
+    if (fragile_on(v)) {
+      f.index = i;
+      return f;
+    }
+    f.boxes_before += std::holds_alternative<Aabb>(v);
+  }
+  ADD_FAILURE() << "no fragile case in " << cases << " cases of " << gen::to_string(d);
+  return f;
+}
+
+// One of a program's three methods aborts the program on known cases; two threads ask two copies
+// of it. The fault names that method and its first such case in each distribution, whatever the
+// threads did; the other two methods finish with the counts they have alone.
+TEST(Protocol, AFaultStopsOnlyItsMethodAndNamesItsFirstCaseWithThreadsAndCopies) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-protocol-several-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::uniform, gen::Distribution::corner};
+  o.faults = dir;
+  ExternalOptions a = adapter({"several"});
+  a.instances = 2;
+  const std::vector<Method> ms = external_methods(a);
+  ASSERT_EQ(ms.size(), 3u);
+  EXPECT_EQ(ms[1].name, "reference-fragile");
+  const VerifyResult r = run_verify(o, ms);
+  const VerifyResult alone = run_verify(o, {ms[0], ms[2]});
+  EXPECT_EQ(r.faults(), 2u);
+  EXPECT_TRUE(r.failed());
+  for (std::size_t k = 0; k < r.distributions.size(); ++k) {
+    const DistributionResult& d = r.distributions[k];
+    const std::string family(gen::to_string(d.distribution));
+    const FragileCase expected = first_fragile(d.distribution, o.seed, o.cases);
+    const MethodStats& fragile = d.methods[1];
+    ASSERT_TRUE(fragile.fault) << family;
+    EXPECT_EQ(fragile.fault->method, "reference-fragile");
+    EXPECT_EQ(fragile.fault->index, expected.index) << family;
+    EXPECT_EQ(fragile.cases, expected.boxes_before) << family;
+    EXPECT_NE(fragile.fault->problem.find("exited (signal 6) before answering"), std::string::npos) << fragile.fault->problem;
+    EXPECT_NE(fragile.fault->problem.find("for method 'reference-fragile'"), std::string::npos) << fragile.fault->problem;
+    EXPECT_EQ(fragile.fault->reproduce,
+              fmt::format("cullproof verify --seed 3 --distribution {} --index {} --external reference-fragile -- {} several",
+                          family, expected.index, CULLPROOF_REFERENCE_ADAPTER));
+    ASSERT_TRUE(fragile.fault->saved) << family;
+    const Case saved = read_case_file(*fragile.fault->saved);
+    EXPECT_TRUE(fragile_on(saved.volume)) << "the case saved is the one it faulted on";
+    for (std::size_t j : {0, 2}) {
+      const MethodStats& m = d.methods[j];
+      const MethodStats& same = alone.distributions[k].methods[j == 0 ? 0 : 1];
+      EXPECT_FALSE(m.fault) << m.method << " on " << family << ": " << m.fault->problem;
+      EXPECT_EQ(m.cases, same.cases) << m.method << " on " << family;
+      EXPECT_EQ(m.false_intersect, same.false_intersect) << m.method << " on " << family;
+      EXPECT_EQ(m.under_inside, same.under_inside) << m.method << " on " << family;
+      EXPECT_FALSE(m.refuted()) << m.method;
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// The same in process: a method that throws on those cases beside two built-in ones, two threads.
+TEST(Protocol, AnInProcessFaultStopsOnlyItsMethodAtItsFirstCase) {
+  MethodInfo info;
+  info.name = "fragile-in-process";
+  info.claim = Claim::conservative;
+  info.tolerance = 1e-6;
+  const Method fragile = make_method(info, [](const CaseFrustum& f) { return f.planes; },
+                                     [](const Frustum& f, const Aabb& b) {
+                                       if (fragile_on(b)) throw std::runtime_error("fragile: this box");
+                                       return pn_vertex(f, b);
+                                     });
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::uniform};
+  o.cases = 4000;
+  const VerifyResult r = run_verify(o, {*find_builtin("pn-vertex"), fragile, *find_builtin("sphere-certified")});
+  const FragileCase expected = first_fragile(gen::Distribution::uniform, o.seed, o.cases);
+  const auto& ms = r.distributions[0].methods;
+  ASSERT_TRUE(ms[1].fault);
+  EXPECT_EQ(ms[1].fault->index, expected.index);
+  EXPECT_EQ(ms[1].cases, expected.boxes_before);
+  EXPECT_NE(ms[1].fault->problem.find("fragile: this box"), std::string::npos) << ms[1].fault->problem;
+  EXPECT_FALSE(ms[0].fault);
+  EXPECT_FALSE(ms[2].fault);
+  EXPECT_GT(ms[0].cases, expected.boxes_before);
+  EXPECT_GT(ms[2].cases, 0u);
+  EXPECT_FALSE(r.interrupted);
 }
 
 TEST(Protocol, TheReferenceAdapterIsAMethodLikeAnyOther) {
@@ -77,16 +187,14 @@ void expect_fault(const std::string& mode, const std::string& words) {
   std::filesystem::remove_all(dir);
   VerifyOptions o = small_run();
   o.faults = dir;
-  try {
-    const std::vector<Method> ext = external_methods(adapter({mode}));
-    run_verify(o, ext);
-    FAIL() << mode << ": not stopped";
-  } catch (const MethodFault& f) {
-    const std::string what = f.what();
-    EXPECT_NE(what.find("external program '"), std::string::npos) << what;
-    EXPECT_NE(what.find(words), std::string::npos) << mode << ": " << what;
-    EXPECT_TRUE(f.saved() && std::filesystem::exists(*f.saved())) << mode << ": the case was not saved";
-  }
+  const VerifyResult r = run_verify(o, external_methods(adapter({mode})));
+  ASSERT_TRUE(r.distributions[0].methods[0].fault) << mode << ": not stopped";
+  const MethodFault& f = *r.distributions[0].methods[0].fault;
+  const std::string what = f.message(r.distributions[0].distribution, o.seed);
+  EXPECT_NE(what.find("external program '"), std::string::npos) << what;
+  EXPECT_NE(what.find(words), std::string::npos) << mode << ": " << what << "\n(expected: " << words << ")";
+  EXPECT_TRUE(f.saved && std::filesystem::exists(*f.saved)) << mode << ": the case was not saved";
+  EXPECT_TRUE(r.failed());
   std::filesystem::remove_all(dir);
 }
 
@@ -290,6 +398,43 @@ TEST(ProtocolReader, AHandshakeOfTheWrongShapeIsRefusedNamingTheField) {
   EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": [1e999]}]})"),
             "external program 'prog': its handshake has a number beyond the range of a double (number overflow parsing "
             "'1e999'): {\"protocol\": 1, \"methods\": [{\"name\": \"m\", \"volumes\": [1e999]}]}");
+}
+
+// A misspelt field would leave its default in force (a misspelt "claim" makes the claim `none`,
+// which nothing can refute): every field outside the list is refused, named.
+TEST(ProtocolReader, AnUnknownHandshakeFieldIsRefusedNamingIt) {
+  const std::string ok = R"({"name": "m", "volumes": ["aabb"])";
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": ["aabb"], "claimm": "exact"}]})"),
+            "external program 'prog': handshake, methods[0]: unknown field \"claimm\" (a method's fields: name, description, "
+            "source, claim, tolerance, volumes, three_way, touching, origin, stateful, frustum, depth)");
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [)" + ok + R"(}], "engine": "x"})"),
+            "external program 'prog': handshake: unknown field \"engine\" (a version-1 handshake's fields: protocol, methods)");
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [)" + ok + R"(}], "systems": []})"),
+            "external program 'prog': handshake: unknown field \"systems\" (a version-1 handshake's fields: protocol, methods)");
+}
+
+// A matrix culler that reads some depth conventions only declares them; the others' cases do not
+// apply to it.
+TEST(ProtocolReader, AMatrixCullerDeclaresTheDepthConventionsItReads) {
+  auto offered = [](const std::string& more) {
+    return protocol::parse_handshake(R"({"protocol": 2, "methods": [{"name": "m", "volumes": ["aabb"], "frustum": "matrix")" +
+                                         more + "}]}",
+                                     "prog")
+        .at(0);
+  };
+  EXPECT_EQ(offered("").depths, 0xFu);
+  const unsigned gl = protocol::depth_convention_bit({DepthRange::negative_one_to_one, false});
+  const unsigned reversed_d3d = protocol::depth_convention_bit({DepthRange::zero_to_one, true});
+  EXPECT_EQ(offered(R"(, "depth": ["negative_one_to_one", "reversed_zero_to_one"])").depths, gl | reversed_d3d);
+  EXPECT_NE(gl, reversed_d3d);
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": ["aabb"], "depth": ["zero_to_one"]}]})"),
+            "external program 'prog': handshake, methods[0]: \"depth\" is declared by a method with \"frustum\": \"matrix\" only");
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": ["aabb"], "frustum": "matrix", "depth": ["gl"]}]})"),
+            "external program 'prog': handshake, methods[0]: \"depth\" \"gl\" is not a depth convention (negative_one_to_one, "
+            "zero_to_one, reversed_negative_one_to_one, reversed_zero_to_one)");
+  EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": ["aabb"], "frustum": "matrix", "depth": []}]})"),
+            "external program 'prog': handshake, methods[0]: \"depth\" must be a non-empty array of depth conventions "
+            "(negative_one_to_one, zero_to_one, reversed_negative_one_to_one, reversed_zero_to_one)");
 }
 
 TEST(ProtocolReader, AnAnswerIsReadOrRefusedNamingTheFrame) {

@@ -18,6 +18,8 @@ json method_json(const std::string& name, const std::string& claim, std::uint64_
   for (std::size_t i = 0; i < histogram_counts.size(); ++i) counts[i] = histogram_counts[i];
   return {{"method", name}, {"claim", claim}, {"origin", "own"}, {"three_way", true}, {"refuted", violations > 0},
           {"claim_violations", violations}, {"float_exact_violations", 0}, {"first_violation", violations ? json(3) : json(nullptr)},
+          {"first_violation_reproduce", violations ? json("cullproof verify --seed 1 --distribution uniform --index 3 --method " + name) : json(nullptr)},
+          {"fault", nullptr},
           {"cases", outside ? outside * 2 : 0}, {"truth", {{"outside", outside}, {"intersecting", 0}, {"inside", 0}}},
           {"false_reject", violations}, {"false_inside", 1}, {"false_intersect", fi}, {"under_inside", 0},
           {"ns_per_test", ns}, {"ns_per_test_own", nullptr}, {"volumes", {"aabb"}}, {"violation_ids", json::array()},
@@ -25,7 +27,7 @@ json method_json(const std::string& name, const std::string& claim, std::uint64_
 }
 
 json run() {
-  json r = {{"seed", 1}, {"cases_per_distribution", 1000}, {"claim_broken", false}, {"wall_seconds", 1.0}};
+  json r = {{"seed", 1}, {"cases_per_distribution", 1000}, {"failed", false}, {"interrupted", false}, {"wall_seconds", 1.0}};
   r["distributions"] = json::array(
       {{{"distribution", "uniform"},
         {"methods",

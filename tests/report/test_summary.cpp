@@ -60,6 +60,9 @@ json method_json(const std::string& name, const std::string& claim, std::vector<
           {"claim_violations", violations},
           {"float_exact_violations", 0},
           {"first_violation", violations ? json(17) : json(nullptr)},
+          {"first_violation_reproduce",
+           violations ? json("cullproof verify --seed 5 --distribution uniform --index 17 --method " + name) : json(nullptr)},
+          {"fault", nullptr},
           {"cases", outside * 2},
           {"truth", {{"outside", outside}, {"intersecting", outside / 2}, {"inside", outside / 2}}},
           {"false_reject", violations},
@@ -73,7 +76,7 @@ json method_json(const std::string& name, const std::string& claim, std::vector<
 }
 
 json two_families() {
-  json r = {{"seed", 5}, {"cases_per_distribution", 100}, {"claim_broken", true}};
+  json r = {{"seed", 5}, {"cases_per_distribution", 100}, {"failed", true}, {"interrupted", false}};
   r["distributions"] = json::array();
   r["distributions"].push_back(
       {{"distribution", "uniform"},
@@ -97,6 +100,39 @@ json two_families() {
 }
 
 }  // namespace
+
+TEST(Summary, AFaultedMethodIsListedWithItsReproduceLineAndKeptOffTheFront) {
+  json r = two_families();
+  r["distributions"][1]["methods"][0]["fault"] = {
+      {"problem", "external program 'x': exited (signal 6) before answering frame 9 (1 volume(s) for method 'cheap')"},
+      {"index", 33},
+      {"reproduce", "cullproof verify --seed 5 --distribution corner --index 33 --external cheap -- x"},
+      {"saved", nullptr},
+      {"case", json::object()}};
+  const report::Summary s = report::summarize(r);
+  ASSERT_EQ(s.faults.size(), 1u);
+  EXPECT_EQ(s.faults[0].method, "cheap");
+  EXPECT_EQ(s.faults[0].family, "corner");
+  EXPECT_EQ(s.faults[0].index, 33u);
+  EXPECT_TRUE(s.methods[0].faulted);
+  for (const report::VolumeGroup& g : s.cheapest)
+    for (const report::FrontStep& f : g.front) EXPECT_NE(f.method, "cheap") << "its counts stop at the fault";
+  std::ostringstream out;
+  report::print_summary(s, out);
+  EXPECT_NE(out.str().find("faults: 1"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("cheap on corner, case 33: external program 'x': exited (signal 6)"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("reproduce: cullproof verify --seed 5 --distribution corner --index 33 --external cheap -- x"),
+            std::string::npos)
+      << out.str();
+  // A fault that is not an object is refused, naming the field.
+  r["distributions"][1]["methods"][0]["fault"] = "crashed";
+  try {
+    report::summarize(r);
+    ADD_FAILURE() << "a malformed fault was read";
+  } catch (const report::ResultError& e) {
+    EXPECT_EQ(std::string(e.what()), "result.distributions[1].methods[0].fault: expected an object or null");
+  }
+}
 
 TEST(Summary, PoolsFamiliesAndFindsTheFrontPerVolumeKinds) {
   const report::Summary s = report::summarize(two_families());

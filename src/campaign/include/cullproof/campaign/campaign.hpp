@@ -10,6 +10,11 @@
 //    and the frustum, divided by the scene size (the diameter of the frustum's bounded part);
 //  - a claim is refuted by an error its claim forbids (see `violates_claim`), beyond the method's
 //    tolerance where the claim has one;
+//  - a method faults when it breaks the method interface on a case (it throws, answers a value
+//    that is not a verdict, or `inside` being two-way; behind the process protocol, it exits,
+//    hangs or answers what the protocol does not allow): it is not asked again in that
+//    distribution, its counts there are over the cases before the one it faulted on (the smallest
+//    such index, whatever the threads), and the case is saved; the other methods run on;
 //  - cost: per frame, the method's prepare (set-up) is timed apart from its classify over the
 //    frame's volumes (through its array form when it has one): cases are grouped into frames of
 //    VerifyOptions::frame_size volumes against one frustum, as a culler runs in an engine.
@@ -21,8 +26,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <limits>
 #include <optional>
@@ -32,6 +39,9 @@
 #include <string_view>
 
 namespace cullproof {
+
+struct DistributionResult;
+
 struct VerifyOptions {
   std::uint64_t cases = 100000;                ///< per distribution
   std::uint64_t seed = 1;
@@ -48,10 +58,34 @@ struct VerifyOptions {
   int timing_frames = 8;                       ///< frames per distribution when timing
   /// Where a case that makes a method fault is saved (see MethodFault); unset: `corpus`/faults.
   std::optional<std::filesystem::path> faults;
+  /// Set (by a signal handler, say) to stop the run: the cases judged so far are counted, recorded
+  /// and reported, the distribution under way and the result marked interrupted, the others not
+  /// run. Read without a lock; must outlive the run.
+  const std::atomic<bool>* stop = nullptr;
+  /// Called with each distribution's result as soon as it is complete (to print its table), on
+  /// the thread that called run_verify, with the progress line cleared.
+  std::function<void(const DistributionResult&)> on_distribution;
+};
+
+/// A method broke the method interface (see the definitions above): what it did, on which case,
+/// and how to see it again.
+struct MethodFault {
+  std::string method;
+  std::string problem;
+  /// The distribution's case index it faulted on; unset for a fault while it was timed (on the
+  /// timing frames, which are not the cases judged).
+  std::optional<std::uint64_t> index;
+  std::string reproduce;                        ///< the command that reruns the case (empty: timing)
+  std::optional<std::filesystem::path> saved;   ///< the file the case was saved to, if it was
+  std::string where;                            ///< "saved to FILE", or why it was not
+  nlohmann::json failing_case;                  ///< the case format, with method, fault, index, reproduce
+  /// The report's lines: the problem, the case, the reproduce command and where the case went.
+  std::string message(gen::Distribution d, std::uint64_t seed) const;
 };
 
 struct MethodStats {
   std::string method;
+  std::string program;  ///< Method::program: the program behind it (empty: in process)
   Claim claim = Claim::none;
   Origin origin = Origin::user;
   bool three_way = true;
@@ -63,6 +97,7 @@ struct MethodStats {
   std::uint64_t float_exact_violations = 0;  ///< of claim_violations, on float-exact cases (no allowance)
   /// The smallest case index (of the distribution) at which the claim broke, if it did.
   std::optional<std::uint64_t> first_violation;
+  std::string first_violation_reproduce;  ///< the command that reruns it (reproduce_command)
   std::vector<double> fi_distance;  ///< relative distances of false intersects
   double ns_per_test = 0.0;         ///< classify, per volume, in frames (NaN: not timed)
   double ns_setup_per_frame = 0.0;  ///< prepare, per frame (NaN: not timed)
@@ -74,12 +109,17 @@ struct MethodStats {
   /// Ids of the corpus cases that record this run's claim violations (up to 4 per error class),
   /// written now or recorded already by an earlier run with the same seed. Empty without a corpus.
   std::vector<std::string> violation_ids;
+  /// Set when the method faulted in this distribution: its counts are over the cases before the
+  /// fault's index (all of them when it faulted while being timed).
+  std::optional<MethodFault> fault;
   bool refuted() const noexcept { return claim_violations > 0; }
 };
 
 struct DistributionResult {
   gen::Distribution distribution{};
-  std::uint64_t cases = 0;
+  std::uint64_t cases = 0;  ///< cases judged by the oracle (fewer than asked when interrupted)
+  std::uint64_t cases_asked = 0;
+  bool interrupted = false;  ///< VerifyOptions::stop was set before the distribution was done
   std::uint64_t oracle_calls = 0, oracle_fallbacks = 0;
   std::uint64_t float_exact_cases = 0;  ///< cases on which nothing rounds (gen::float_exact)
   std::vector<MethodStats> methods;
@@ -89,19 +129,32 @@ struct VerifyResult {
   VerifyOptions options;
   std::vector<DistributionResult> distributions;
   double wall_seconds = 0.0;
-  /// A claim of one of cullproof's own methods or of a user's method broke (the run's exit
-  /// status is non-zero). Refuted claims of published methods are findings, not failures.
+  /// VerifyOptions::stop stopped the run: the last distribution is cut short (marked), the ones
+  /// after it are missing.
+  bool interrupted = false;
+  /// A claim of one of cullproof's own methods or of a user's method was refuted. Refuted claims of
+  /// published methods are findings, not failures.
   bool claim_broken() const noexcept;
+  /// Faults, over every distribution.
+  std::size_t faults() const noexcept;
+  /// The run failed: a claim broke (claim_broken) or a method faulted. `cullproof verify` exits
+  /// with 1 for a broken claim, 3 for a fault (the stronger), 128 + the signal when interrupted.
+  bool failed() const noexcept { return claim_broken() || faults() > 0; }
 };
 
 /// Runs the campaign on `methods` (a user's, built-in ones, or both; names must be unique).
-/// options.methods is ignored. Progress goes to stderr when options.progress is set. Throws
-/// MethodFault when a method faults, std::invalid_argument for a duplicate name.
+/// options.methods is ignored. Progress goes to stderr when options.progress is set. A method's
+/// fault is reported in its MethodStats (the run goes on); throws std::invalid_argument for a
+/// duplicate name.
 VerifyResult run_verify(const VerifyOptions& options, const std::vector<Method>& methods);
 /// Runs the campaign on the built-in methods named by options.methods (all when empty).
 VerifyResult run_verify(const VerifyOptions& options);
-/// One table per distribution (the README format).
+/// One table per distribution (the README format), then what the columns mean.
 void print_tables(const VerifyResult& r, std::ostream& out);
+/// One distribution's table, with its faults under it.
+void print_table(const DistributionResult& d, std::uint64_t seed, std::ostream& out);
+/// What the tables' columns mean, and the run's wall time and state (interrupted).
+void print_table_notes(const VerifyResult& r, std::ostream& out);
 /// The whole result for scripts (and for `cullproof report`).
 nlohmann::json to_json(const VerifyResult& r);
 

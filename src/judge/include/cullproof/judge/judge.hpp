@@ -46,27 +46,6 @@ double error_distance(const CaseFrustum& f, const Volume& v, Visibility verdict)
 /// that forgives it within a tolerance or a band), so that the distance must be measured.
 bool needs_distance(Claim claim, ErrorClass e, bool float_exact) noexcept;
 
-/// A method broke the method interface on a case: it threw, answered a value that is not a
-/// verdict, or answered `inside` although it is two-way. The run stops: its other results are
-/// not reported. what() names the method, the problem and the case (distribution, index, the
-/// reproduce command, and where the case was saved).
-class MethodFault : public std::runtime_error {
- public:
-  MethodFault(const std::string& what, std::string method, nlohmann::json failing_case,
-              std::optional<std::filesystem::path> saved)
-      : std::runtime_error(what), method_(std::move(method)), case_(std::move(failing_case)), saved_(std::move(saved)) {}
-  const std::string& method() const noexcept { return method_; }
-  /// The case, in the case format (with the distribution, index and reproduce command).
-  const nlohmann::json& failing_case() const noexcept { return case_; }
-  /// The file the case was saved to, if it was.
-  const std::optional<std::filesystem::path>& saved() const noexcept { return saved_; }
-
- private:
-  std::string method_;
-  nlohmann::json case_;
-  std::optional<std::filesystem::path> saved_;
-};
-
 /// Runs method `m` on one case as the campaign does (prepare, then classify; a stateful method is
 /// reset() first: the case is a camera path of one frame), checking what it answers:
 /// std::nullopt when it does not take the volume or does not apply. Throws

@@ -33,8 +33,10 @@ constexpr int kMaxProtocolDepth = 64;
 
 struct ExternalOptions {
   std::vector<std::string> command;  ///< the program and its arguments (run without a shell)
-  /// How long cullproof waits for the handshake and for each answer before calling the program hung.
+  /// How long cullproof waits for each answer before calling the program hung.
   std::chrono::milliseconds timeout{10000};
+  /// How long cullproof waits for the handshake (a program that loads an engine may take a while).
+  std::chrono::milliseconds handshake_timeout{30000};
   /// Copies of the program to run side by side (at least 1): the campaign's threads ask whichever
   /// is free, so round trips overlap. A stateful method is always asked through the first copy,
   /// which sees its frames in order. Every copy must offer the same methods.
@@ -46,9 +48,11 @@ struct ExternalOptions {
 /// answer; a program that exits, hangs past the timeout, or answers what the protocol does not
 /// allow (malformed JSON, another frame, the wrong count, an unknown verdict, a line or nesting
 /// past the limits above) makes the call throw
-/// std::runtime_error naming the program, the message and what was wrong (the campaign turns it
-/// into a MethodFault, with the case saved). Throws std::runtime_error when the program cannot be
-/// started or its handshake is not one this version reads.
+/// std::runtime_error naming the program, the message and what was wrong (the campaign makes it
+/// that method's MethodFault, with the case saved). The program is then stopped, and the next call
+/// starts it again (the same handshake required; a stateful method's next frame resets it), so
+/// its other methods go on. Throws std::runtime_error when the program cannot be started or its
+/// handshake is not one this version reads.
 std::vector<Method> external_methods(const ExternalOptions& options);
 
 /// Starts the program (one copy: a system's state lives in it), reads its handshake (version 2)

@@ -22,7 +22,14 @@ struct OfferedMethod {
   /// (user unless "published"); `program` is left empty.
   MethodInfo info;
   bool wants_matrix = false;  ///< "frustum": "matrix": asked only about frusta given by a clip matrix
+  /// "depth" (with "frustum": "matrix"): the depth conventions it reads, a bit per
+  /// depth_convention_bit; the others' cases count as not applying. All four when not declared.
+  unsigned depths = 0xF;
 };
+
+/// The bit of a depth convention in OfferedMethod::depths: negative_one_to_one 1, zero_to_one 2,
+/// reversed: the same shifted left by 2.
+unsigned depth_convention_bit(const DepthConvention& d) noexcept;
 
 /// Reads the handshake line of the program whose command line is `program`. Throws
 /// std::runtime_error "external program '<program>': ..." naming what is wrong: a line that is not

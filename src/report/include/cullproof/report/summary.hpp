@@ -39,6 +39,7 @@ struct MethodOverall {
   std::vector<std::string> volumes;  ///< kinds it takes ("point", "sphere", "aabb", "obb")
   bool three_way = true;
   bool refuted = false;
+  bool faulted = false;  ///< it faulted in some family (its counts there stop at the fault)
   std::uint64_t cases = 0, truth_outside = 0;
   std::uint64_t false_reject = 0, false_inside = 0, false_intersect = 0, under_inside = 0;
   std::uint64_t claim_violations = 0;
@@ -54,6 +55,13 @@ struct FamilyBreak {
   std::optional<std::uint64_t> first_violation;  ///< case index, for --index
   std::vector<std::string> corpus_ids;           ///< corpus cases recording the violation
   std::string reproduce;                         ///< the command that reruns the first violation
+};
+
+/// A method's fault in one family.
+struct FaultLine {
+  std::string method, family, problem;
+  std::optional<std::uint64_t> index;  ///< unset: while it was timed
+  std::string reproduce;               ///< empty: while it was timed
 };
 
 struct BrokenClaim {
@@ -83,7 +91,11 @@ struct Summary {
   std::vector<MethodOverall> methods;  ///< in the run's order
   std::vector<BrokenClaim> broken;     ///< refuted claims, in the run's order
   std::vector<VolumeGroup> cheapest;   ///< by volume kinds, in a fixed order (point first)
-  bool claim_broken = false;           ///< an own or user method's claim broke (the run fails)
+  std::vector<FaultLine> faults;       ///< in the run's order
+  bool failed = false;                 ///< the run failed (VerifyResult::failed)
+  bool interrupted = false;            ///< the run was stopped before it was done
+  /// A claim of one of cullproof's own methods or of a user's method was refuted.
+  bool own_claim_broken() const noexcept;
 };
 
 /// A point for pareto_front.
