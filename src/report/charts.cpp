@@ -29,6 +29,7 @@ const std::vector<std::string> kClaimColours = {"#00441b", "#41ab5d", "#08519c",
 struct CostRow {
   std::string method, claim, origin, volumes;
   bool refuted = false;
+  bool faulted = false;  // its counts stop at a fault
   std::optional<double> ns, ns_own;
   double rate = 0, lo = 0, hi = 0;
   std::uint64_t outside = 0, cases = 0, fr = 0, fi = 0, fint = 0, ui = 0, violations = 0;
@@ -44,6 +45,7 @@ std::vector<CostRow> cost_rows(const json& verify, const std::string& family, co
       r.origin = m.origin;
       r.volumes = show::join(m.volumes, " + ");
       r.refuted = m.refuted;
+      r.faulted = m.faulted;
       r.ns = m.ns_per_test;
       r.ns_own = m.ns_per_test_own;
       r.rate = m.fi_rate;
@@ -69,6 +71,7 @@ std::vector<CostRow> cost_rows(const json& verify, const std::string& family, co
       r.origin = j.at("origin");
       r.volumes = show::join(j.at("volumes").get<std::vector<std::string>>(), " + ");
       r.refuted = j.at("claim_violations").get<std::uint64_t>() > 0;
+      r.faulted = !j.at("fault").is_null();
       if (j.at("ns_per_test").is_number()) r.ns = j.at("ns_per_test").get<double>();
       if (j.at("ns_per_test_own").is_number()) r.ns_own = j.at("ns_per_test_own").get<double>();
       r.outside = j.at("truth").at("outside");
@@ -141,7 +144,11 @@ json accuracy_cost_spec(const json& verify, const std::string& family) {
         {"method", r.method},
         {"claim", r.claim},
         {"status", status},
-        {"claim_text", r.claim == "none" ? std::string("none") : r.claim + (r.refuted ? fmt::format(" REFUTED ({} cases)", r.violations) : " held")},
+        {"claim_text", (r.claim == "none" ? std::string("none")
+                        : r.claim + (r.refuted   ? fmt::format(" REFUTED ({} cases)", r.violations)
+                                     : r.faulted ? std::string(" not refuted before the fault")
+                                                 : std::string(" held"))) +
+                           (r.faulted ? "; FAULT: the counts stop at it" : "")},
         {"origin", r.origin},
         {"volumes", r.volumes},
         {"ns", *r.ns},

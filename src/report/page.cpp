@@ -104,7 +104,11 @@ std::string systems_html(const json& js, const std::string& from, std::set<std::
 std::string summary_html(const Summary& s, const std::set<std::string>& shown_cases) {
   std::string h;
   h += "<section id=\"summary\"><h2>Summary</h2>\n";
-  if (s.broken.empty()) {
+  if (s.broken.empty() && !s.faults.empty()) {
+    h += fmt::format("<p id=\"claims-verdict\">No claim was refuted ({} methods), the faulted methods' only up to their "
+                     "faults.</p>\n",
+                     s.methods.size());
+  } else if (s.broken.empty()) {
     h += fmt::format("<p class=\"held\" id=\"claims-verdict\">Every claim held ({} methods).</p>\n", s.methods.size());
   } else {
     h += fmt::format("<p id=\"claims-verdict\"><span class=\"refuted\">{} of {} methods' claims were refuted.</span>{}</p>\n",
@@ -129,6 +133,21 @@ std::string summary_html(const Summary& s, const std::set<std::string>& shown_ca
       }
     h += "</table>\n";
   }
+  if (!s.faults.empty()) {
+    h += fmt::format("<p id=\"faults-verdict\"><span class=\"refuted\">{} fault{}:</span> a faulted method was not asked again "
+                     "in that family, and its counts there stop at the fault; the run failed.</p>\n",
+                     s.faults.size(), s.faults.size() == 1 ? "" : "s");
+    h += "<table id=\"faults\"><tr><th>method</th><th>family</th><th>case</th><th>problem</th><th>reproduce</th></tr>\n";
+    for (const FaultLine& f : s.faults)
+      h += fmt::format("<tr><td><b>{}</b></td><td>{}</td><td class=\"num\">{}</td><td class=\"refuted\">FAULT: {}</td>"
+                       "<td><code>{}</code></td></tr>\n",
+                       html_escape(f.method), html_escape(f.family), f.index ? std::to_string(*f.index) : "while timed",
+                       html_escape(f.problem), html_escape(f.reproduce));
+    h += "</table>\n";
+  }
+  if (s.interrupted)
+    h += "<p id=\"interrupted\" class=\"refuted\">The run was interrupted: its counts are over the cases judged before it "
+         "was stopped.</p>\n";
   h += "<h3>The cheapest method for each level of accuracy</h3>\n"
        "<p class=\"lead\">Among methods that make a claim and held it, compared with those that take the same volume "
        "kinds (so over the same cases): each row is the cheapest method whose false-intersect rate is at most its "

@@ -228,7 +228,7 @@ void print_summary(const Summary& s, std::ostream& out) {
                      s.families.size() == 1 ? "y" : "ies", show::join(s.families, ", "), s.methods.size(),
                      s.methods.size() == 1 ? "" : "s");
   if (s.broken.empty()) {
-    out << "every claim held\n";
+    out << (s.faults.empty() ? "every claim held\n" : "no claim was refuted (the faulted methods' only up to their faults)\n");
   } else {
     out << fmt::format("claims refuted: {} of {} method{}\n", s.broken.size(), s.methods.size(), s.methods.size() == 1 ? "" : "s");
     for (const BrokenClaim& b : s.broken) {

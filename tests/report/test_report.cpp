@@ -127,6 +127,28 @@ TEST(ReportPage, ThePageHoldsTheSummaryTheChartsAndTheScript) {
   EXPECT_EQ(page.find("http://"), std::string::npos);
 }
 
+TEST(ReportPage, AFaultIsShownAsAFaultNeverAsHeld) {
+  json r = run();
+  r["failed"] = true;
+  r["distributions"][1]["methods"][0]["fault"] = {{"problem", "method 'fast' threw: out of memory"},
+                                                  {"index", 12},
+                                                  {"reproduce", "cullproof verify --seed 1 --distribution corner --index 12 --method fast"},
+                                                  {"saved", nullptr},
+                                                  {"case", json::object()}};
+  const std::string page = report::report_html(r, {}, "");
+  EXPECT_NE(page.find("<table id=\"faults\">"), std::string::npos);
+  EXPECT_NE(page.find("FAULT: method &#39;fast&#39; threw: out of memory"), std::string::npos);
+  EXPECT_NE(page.find("cullproof verify --seed 1 --distribution corner --index 12 --method fast"), std::string::npos);
+  const json spec = report::accuracy_cost_spec(r, "");
+  bool found = false;
+  for (const json& p : layer_data(spec)) {
+    if (p.at("method") != "fast") continue;
+    found = true;
+    EXPECT_EQ(p.at("claim_text"), "conservative not refuted before the fault; FAULT: the counts stop at it");
+  }
+  EXPECT_TRUE(found);
+}
+
 // ---- the corpus drawn ----------------------------------------------------------------------
 
 #include "cullproof/report/case_view.hpp"
