@@ -114,7 +114,7 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
         if (!m.takes(e.c.volume)) continue;
         const auto v = e.path ? checked_classify_path(m, *e.path) : m.classify(e.c.frustum, e.c.volume);
         if (!v) continue;
-        const ErrorClass cls = error_class(*v, t.truth, m.three_way);
+        const ErrorClass cls = error_class(*v, t.truth, m.three_way_on(e.c.volume));
         std::printf("  %-26s %-13s %s\n", m.name.c_str(), std::string(to_string(*v)).c_str(),
                     cls == ErrorClass::correct ? "" : std::string(to_string(cls)).c_str());
       }

@@ -265,7 +265,8 @@ class DistributionRun {
         bool erred = false;
         for (std::size_t k = 0; k < ms_.size(); ++k) {
           const std::int8_t v = o.verdict[k];
-          erred = erred || (v >= 0 && error_class(Visibility(v), o.truth, ms_[k].three_way) != ErrorClass::correct);
+          erred = erred || (v >= 0 && error_class(Visibility(v), o.truth, ms_[k].three_way_on(cases_[i].volume)) !=
+                                          ErrorClass::correct);
         }
         if (!erred) continue;
         o.distance = oracle::classify(cases_[i].frustum, cases_[i].volume, oracle::Options{true, true, false}).distance;
@@ -273,7 +274,8 @@ class DistributionRun {
         for (std::size_t k = 0; k < ms_.size(); ++k) {
           const std::int8_t v = o.verdict[k];
           if (v < 0 || o.verdict_distance[std::size_t(v)] != CaseOutcome::kUnmeasured) continue;
-          if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way), o.float_exact))
+          if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way_on(cases_[i].volume)),
+                             o.float_exact))
             o.verdict_distance[std::size_t(v)] = error_distance(cases_[i].frustum, cases_[i].volume, Visibility(v));
         }
       }
@@ -309,6 +311,7 @@ class DistributionRun {
     s.claim = m.claim;
     s.origin = m.origin;
     s.three_way = m.three_way;
+    s.two_way_kinds = m.three_way ? m.two_way_kinds & m.volumes : 0;
     s.volumes = m.volumes;
     std::map<ErrorClass, int> written;
     // Claim violations per class: (allowances beyond which the error lies, case).
@@ -320,7 +323,9 @@ class DistributionRun {
       const Visibility t = out_[i].truth;
       ++s.cases;
       (t == Visibility::outside ? s.truth_outside : t == Visibility::inside ? s.truth_inside : s.truth_intersecting)++;
-      const ErrorClass cls = error_class(Visibility(out_[i].verdict[k]), t, m.three_way);
+      const bool three_way = m.three_way_on(cases_[i].volume);
+      if (t == Visibility::inside && three_way) ++s.truth_inside_three_way;
+      const ErrorClass cls = error_class(Visibility(out_[i].verdict[k]), t, three_way);
       switch (cls) {
         case ErrorClass::correct: continue;
         case ErrorClass::false_reject: ++s.false_reject; break;
@@ -370,7 +375,7 @@ class DistributionRun {
     auto alone_shows_it = [&] {
       try {
         const Answer a = run_method(m, cases_[i]);
-        return a && error_class(*a, t, m.three_way) == cls;
+        return a && error_class(*a, t, m.three_way_on(cases_[i].volume)) == cls;
       } catch (const std::exception&) {
         return false;
       }

@@ -26,6 +26,18 @@ std::string median_max(std::vector<double> v) {
 
 std::string ns(double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : "-"; }
 
+// Under-insides over the truly inside volumes of the kinds the method answers three-way.
+double under_inside_rate(const MethodStats& m) {
+  return m.truth_inside_three_way ? double(m.under_inside) / double(m.truth_inside_three_way) : 0.0;
+}
+
+std::string kind_list(unsigned bits) {
+  std::string s;
+  for (unsigned k : {kPointKind, kSphereKind, kAabbKind, kObbKind})
+    if (bits & k) s += (s.empty() ? "" : " and ") + std::string(volume_kind_name(k));
+  return s;
+}
+
 }  // namespace
 
 void print_table(const DistributionResult& d, std::uint64_t seed, std::ostream& out) {
@@ -46,13 +58,14 @@ void print_table(const DistributionResult& d, std::uint64_t seed, std::ostream& 
                          : m.fault              ? fmt::format("{} not refuted before the fault", to_string(m.claim))
                                                 : fmt::format("{} held", to_string(m.claim));
     if (!m.three_way) status += ", two-way";
+    else if (m.two_way_kinds) status += ", two-way on " + kind_list(m.two_way_kinds);
     if (m.fault)
       status += m.fault->index ? fmt::format("; FAULT on case {}", *m.fault->index) : std::string("; FAULT while timed");
     out << fmt::format("| {} | {} | {} | {} | {} | {} | {} ({}-{}) | {} | {} | {} | {}{}{} |\n", m.method,
                        to_string(m.origin), status, m.cases, m.false_reject, m.false_inside,
                        pct(m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0), pct(lo),
                        pct(hi),
-                       m.three_way ? pct(m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0)
+                       m.three_way ? pct(under_inside_rate(m))
                                    : std::string("-"),
                        median_max(m.fi_distance), m.program.empty() ? ns(m.ns_setup_per_frame) : std::string("-"),
                        ns(m.ns_per_test), m.timed_batch ? " (batch)" : "",
@@ -65,8 +78,8 @@ void print_table(const DistributionResult& d, std::uint64_t seed, std::ostream& 
 void print_table_notes(const VerifyResult& r, std::ostream& out) {
   out << "\norigin: published = a text under test (a refuted claim is a finding); own = cullproof's, user = yours "
          "(a refuted claim fails the run).\n";
-  out << "false-intersect % = false intersects / volumes truly outside; under-inside % = / volumes truly inside "
-         "(two-way methods answer visible or outside: not charged).\n";
+  out << "false-intersect % = false intersects / volumes truly outside; under-inside % = / volumes truly inside of "
+         "the kinds the method answers three-way (two-way methods, or kinds, answer visible or outside: not charged).\n";
   out << "FI distance = the oracle's distance from a falsely kept volume to the frustum over the scene size; inf: the "
          "case's frustum, as its float values define it, is empty, so no distance to it is finite.\n";
   if (r.options.timing)
@@ -176,7 +189,8 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"under_inside", m.under_inside},
                                {"false_intersect_rate", m.truth_outside ? double(m.false_intersect) / double(m.truth_outside) : 0.0},
                                {"false_intersect_rate_ci95", {lo, hi}},
-                               {"under_inside_rate", m.truth_inside ? double(m.under_inside) / double(m.truth_inside) : 0.0},
+                               {"under_inside_rate", under_inside_rate(m)},
+                               {"two_way_volumes", volume_names(m.two_way_kinds)},
                                {"fi_distance_median", dist.empty() ? nlohmann::json(nullptr) : nlohmann::json(dist[dist.size() / 2])},
                                {"fi_distance_max", dist.empty() ? nlohmann::json(nullptr) : nlohmann::json(dist.back())},
                                {"ns_per_test", std::isfinite(m.ns_per_test) ? nlohmann::json(m.ns_per_test) : nlohmann::json(nullptr)},

@@ -54,7 +54,7 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
         validate(c.volume);
         const auto v = run_method(m, c);
         if (!v) continue;
-        if (error_class(*v, oracle::truth(c.frustum, c.volume), m.three_way) != cls) continue;
+        if (error_class(*v, oracle::truth(c.frustum, c.volume), m.three_way_on(c.volume)) != cls) continue;
         // Judged as the run judges it: beyond the allowance (its distance from the verdict given),
         // and by as many allowances as `keep`.
         if (violation) {
@@ -78,7 +78,7 @@ PathCase shrink_path(PathCase p, const Method& m, ErrorClass cls, Visibility tru
   auto still = [&](const PathCase& c) {
     try {
       const Answer a = checked_classify_path(m, c);
-      return a && error_class(*a, truth, m.three_way) == cls;
+      return a && error_class(*a, truth, m.three_way_on(c.volume())) == cls;
     } catch (const std::exception&) {
       return false;  // a fault is reported by the run itself, not found by shrinking
     }

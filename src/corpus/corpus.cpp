@@ -105,7 +105,7 @@ std::vector<Rejudged> rejudge(const std::filesystem::path& dir, const std::vecto
     if (vd.truth != *e.c.truth) continue;
     const double scale = gen::case_scale(e.c.frustum, e.c.volume);
     const bool exact_case = gen::float_exact(e.c.frustum, e.c.volume);
-    const ErrorClass cls = error_class(e.verdict, vd.truth, m->three_way);
+    const ErrorClass cls = error_class(e.verdict, vd.truth, m->three_way_on(e.c.volume));
     nlohmann::json x = e.c.extra;
     x["violates_claim"] = violates_claim(m->claim, cls, vd.distance, m->tolerance, scale, exact_case);
     detail::set_judgement(x, vd, *m, scale, exact_case);

@@ -45,7 +45,7 @@ CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& 
                               gen::Distribution d, std::uint64_t seed, std::uint64_t index,
                               const std::vector<Method>& all, const PathCase* path) {
   const oracle::Result r = oracle::classify(g.frustum, g.volume);
-  const ErrorClass cls = error_class(verdict, r.truth, m.three_way);
+  const ErrorClass cls = error_class(verdict, r.truth, m.three_way_on(g.volume));
   const std::string hash = geometry_hash(g.frustum, g.volume);
   Case c;
   c.id = fmt::format("{}-{}-{}", m.name, to_string(cls), hash);
@@ -60,7 +60,7 @@ CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& 
   x["class"] = to_string(cls);
   x["claim"] = std::string(to_string(m.claim));
   x["origin"] = std::string(to_string(m.origin));
-  if (!m.three_way) x["two_way"] = true;
+  if (!m.three_way_on(g.volume)) x["two_way"] = true;
   const double scale = gen::case_scale(g.frustum, g.volume);
   const bool exact_case = gen::float_exact(g.frustum, g.volume);
   const oracle::VerdictDistance vd = oracle::distance_to_verdict(g.frustum, g.volume, verdict);

@@ -9,12 +9,14 @@ namespace cullproof {
 namespace {
 
 // Why an answer is not one the method may give, or "" when it is.
-std::string answer_problem(const Method& m, const Answer& a) {
+std::string answer_problem(const Method& m, const Volume& v, const Answer& a) {
   if (a && unsigned(*a) > unsigned(Visibility::inside))
     return fmt::format("method '{}' answered {}, which is not a verdict (0 outside, 1 intersecting, 2 inside)", m.name,
                        unsigned(*a));
-  if (a && *a == Visibility::inside && !m.three_way)
-    return "method '" + m.name + "' answered inside, but it is two-way (visible or outside)";
+  if (a && *a == Visibility::inside && !m.three_way_on(v))
+    return m.three_way ? "method '" + m.name + "' answered inside for a " + std::string(volume_kind_name(volume_kind(v))) +
+                             ", but it is two-way on those (visible or outside)"
+                       : "method '" + m.name + "' answered inside, but it is two-way (visible or outside)";
   return "";
 }
 
@@ -78,7 +80,7 @@ void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size
         answers.assign(vols.size(), Answer{});
         guarded(f, idx[0], " in classify_batch", [&] { p->classify_batch(vols.data(), vols.size(), answers.data()); });
         for (std::size_t j = 0; j < vols.size(); ++j) {
-          const std::string problem = answer_problem(m, answers[j]);
+          const std::string problem = answer_problem(m, objects[idx[j]], answers[j]);
           if (!problem.empty()) throw PathFault(problem, f, idx[j]);
           sink(f, idx[j], answers[j]);
         }
@@ -91,7 +93,7 @@ void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size
       for (std::size_t o : order) {
         Answer a;
         guarded(f, o, "", [&] { a = p->classify(objects[o]); });
-        const std::string problem = answer_problem(m, a);
+        const std::string problem = answer_problem(m, objects[o], a);
         if (!problem.empty()) throw PathFault(problem, f, o);
         sink(f, o, a);
       }
@@ -105,7 +107,7 @@ Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v) 
   if (!m.takes(v)) return std::nullopt;
   Answer a;
   call_method(m, "", [&] { a = m.classify(f, v); });
-  const std::string problem = answer_problem(m, a);
+  const std::string problem = answer_problem(m, v, a);
   if (!problem.empty()) throw std::runtime_error(problem);
   return a;
 }

@@ -99,9 +99,33 @@ json read_handshake(std::string_view line, const std::string& program, int& vers
   return h;
 }
 
-// What a method and a system describe alike: claim, tolerance, volumes, three_way, touching,
-// origin, description and source.
-void read_description(const json& m, MethodInfo& info, const std::string& program, const std::string& at) {
+// "three_way" of a method: true or false, or an object naming kinds it takes, each true or false
+// (the kinds not named are three-way).
+void read_three_way(const json& m, MethodInfo& info, const std::string& at) {
+  const auto t = m.find("three_way");
+  if (t == m.end() || !t->is_object()) {
+    info.three_way = bool_field(m, "three_way", true, at);
+    return;
+  }
+  for (const auto& [kind, value] : t->items()) {
+    const unsigned bit = kinds_of(json::array({kind}), at + ": \"three_way\"");
+    if (!(info.volumes & bit))
+      throw std::runtime_error(fmt::format("{}: \"three_way\" names {}, which is not among its \"volumes\"", at,
+                                           excerpt(json(kind).dump())));
+    if (!value.is_boolean())
+      throw std::runtime_error(fmt::format("{}: \"three_way\" {} {} is not true or false", at, excerpt(json(kind).dump()),
+                                           excerpt(value.dump())));
+    if (!value.get<bool>()) info.two_way_kinds |= bit;
+  }
+  if (info.two_way_kinds == info.volumes) {  // two-way on every kind it takes
+    info.three_way = false;
+    info.two_way_kinds = 0;
+  }
+}
+
+// What a method and a system describe alike: claim, tolerance, volumes, three_way (per kind for a
+// method), touching, origin, description and source.
+void read_description(const json& m, MethodInfo& info, const std::string& program, const std::string& at, bool per_kind) {
   info.origin = Origin::user;
   info.description = string_field(m, "description", "external program: " + program, at);
   info.source = string_field(m, "source", program, at);
@@ -120,7 +144,8 @@ void read_description(const json& m, MethodInfo& info, const std::string& progra
     info.tolerance = t->get<double>();
   }
   info.volumes = kinds_of(m.contains("volumes") ? m["volumes"] : json(), at);
-  info.three_way = bool_field(m, "three_way", true, at);
+  if (per_kind) read_three_way(m, info, at);
+  else info.three_way = bool_field(m, "three_way", true, at);
   info.touching = string_field(m, "touching", std::string(), at);
   const std::string origin = string_field(m, "origin", "user", at);
   if (origin == "published") info.origin = Origin::published;
@@ -152,7 +177,7 @@ std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::str
     OfferedMethod o;
     MethodInfo& info = o.info;
     info.name = name_of(m, names, at);
-    read_description(m, info, program, at);
+    read_description(m, info, program, at, /*per_kind=*/true);
     known_fields(m,
                  {"name", "description", "source", "claim", "tolerance", "volumes", "three_way", "touching", "origin",
                   "stateful", "frustum", "depth"},
@@ -200,7 +225,7 @@ std::vector<SystemInfo> parse_offered_systems(std::string_view line, const std::
     info.name = name_of(m, names, at);
     known_fields(m, {"name", "description", "source", "claim", "tolerance", "volumes", "three_way", "touching", "origin"},
                  "a system's fields", at);
-    read_description(m, info, program, at);
+    read_description(m, info, program, at, /*per_kind=*/false);
     out.push_back(std::move(info));
   }
   return out;

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <filesystem>
 #include <memory>
+#include <sstream>
 
 namespace cullproof {
 namespace {
@@ -175,9 +176,10 @@ TEST(MethodInterface, APlantedBugIsRefutedFailsTheRunAndIsWrittenToTheCorpus) {
   std::filesystem::remove_all(dir);
 }
 
-void expect_fault(const Method& m, const std::string& says) {
+void expect_fault(const Method& m, const std::string& says, std::vector<gen::Distribution> families = {}) {
   const auto dir = temp_dir("fault");
   VerifyOptions o = small_run(200);
+  if (!families.empty()) o.distributions = families;
   o.corpus = dir;
   const VerifyResult r = run_verify(o, {m});
   EXPECT_TRUE(r.failed());
@@ -274,6 +276,66 @@ TEST(MethodInterface, TimingReportsSetUpAndPerTestCostSeparately) {
   }
   EXPECT_FALSE(r.distributions[0].methods[0].timed_batch);
   EXPECT_TRUE(r.distributions[0].methods[1].timed_batch);
+}
+
+}  // namespace
+}  // namespace cullproof
+
+namespace cullproof {
+namespace {
+
+// A culler three-way on boxes (the n/p-vertex test) and two-way on spheres (the sphere test with
+// `inside` reported as visible), declared so per kind, or declared three-way on both.
+Method box_and_visible_sphere(unsigned two_way_kinds, bool answers_inside_for_spheres = false) {
+  MethodInfo info;
+  info.name = "box-and-visible-sphere";
+  info.claim = Claim::conservative;
+  info.tolerance = std::max(find_builtin("pn-vertex")->tolerance, find_builtin("sphere-plane")->tolerance);
+  info.volumes = kAabbKind | kSphereKind;
+  info.two_way_kinds = two_way_kinds;
+  return make_method(info, [](const CaseFrustum& f) { return f; },
+                     [answers_inside_for_spheres](const CaseFrustum& f, const Volume& v) -> Visibility {
+                       if (std::holds_alternative<Aabb>(v)) return *find_builtin("pn-vertex")->classify(f, v);
+                       const Visibility s = *find_builtin("sphere-plane")->classify(f, v);
+                       return s == V::inside && !answers_inside_for_spheres ? V::intersecting : s;
+                     });
+}
+
+TEST(MethodInterface, AMethodTwoWayOnOneKindIsChargedUnderInsidesOnTheOthersOnly) {
+  VerifyOptions o = small_run(3000);
+  o.distributions = {gen::Distribution::near_boundary, gen::Distribution::tiny_huge};  // truly inside spheres
+  const VerifyResult r = run_verify(o, {box_and_visible_sphere(kSphereKind), *find_builtin("pn-vertex"),
+                                        *find_builtin("sphere-plane")});
+  const VerifyResult all_three_way = run_verify(o, {box_and_visible_sphere(0)});
+  for (std::size_t k = 0; k < r.distributions.size(); ++k) {
+    const auto& ms = r.distributions[k].methods;
+    const MethodStats &mixed = ms[0], &box = ms[1], &sphere = ms[2];
+    const std::string family(gen::to_string(r.distributions[k].distribution));
+    EXPECT_FALSE(mixed.fault) << family;
+    EXPECT_FALSE(mixed.refuted()) << family;
+    EXPECT_EQ(mixed.two_way_kinds, unsigned(kSphereKind));
+    EXPECT_EQ(mixed.cases, box.cases + sphere.cases) << family;
+    // Under-insides are those of its box test, over the truly inside boxes.
+    EXPECT_EQ(mixed.truth_inside, box.truth_inside + sphere.truth_inside) << family;
+    EXPECT_EQ(mixed.truth_inside_three_way, box.truth_inside) << family;
+    EXPECT_EQ(mixed.under_inside, box.under_inside) << family;
+    EXPECT_EQ(mixed.false_intersect, box.false_intersect + sphere.false_intersect) << family;
+    // Declared three-way on spheres too, every truly inside sphere is an under-inside.
+    ASSERT_GT(sphere.truth_inside, 0u) << family;
+    const MethodStats& charged = all_three_way.distributions[k].methods[0];
+    EXPECT_EQ(charged.under_inside, box.under_inside + sphere.truth_inside) << family;
+  }
+  std::ostringstream table;
+  print_table(r.distributions[0], o.seed, table);
+  EXPECT_NE(table.str().find("| box-and-visible-sphere | user | conservative held, two-way on sphere |"), std::string::npos)
+      << table.str();
+  EXPECT_EQ(to_json(r)["distributions"][0]["methods"][0]["two_way_volumes"], nlohmann::json::array({"sphere"}));
+}
+
+TEST(MethodInterface, InsideForAKindItAnswersTwoWayIsAFault) {
+  expect_fault(box_and_visible_sphere(kSphereKind, /*answers_inside_for_spheres=*/true),
+               "answered inside for a sphere, but it is two-way on those",
+               {gen::Distribution::near_boundary, gen::Distribution::tiny_huge});
 }
 
 }  // namespace

@@ -9,7 +9,8 @@
 // the method a text under test, `matrix` asks for matrix frusta only, `unstable` describes itself
 // differently in every process. `several` offers two more methods beside it: the same test as
 // `reference-fragile`, which aborts (signal 6) on a box whose min.x, as a float, has bits divisible
-// by 61 (a known set of cases), and the two-way `reference-p-vertex`. It reports its own time.
+// by 61 (a known set of cases), and the two-way `reference-p-vertex`. `slow-start` waits two
+// seconds before its handshake (an engine loading). It reports its own time.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
     hello["methods"].push_back(fragile);
     hello["methods"].push_back(two_way);
   }
+  if (is("slow-start")) std::this_thread::sleep_for(std::chrono::seconds(2));
   if (is("long-handshake")) hello["methods"][0]["description"] = std::string(2 << 20, 'x');
   if (is("deep-handshake")) hello["methods"][0]["more"] = json::parse(std::string(100, '[') + std::string(100, ']'));
   std::cout << hello.dump() << "\n" << std::flush;

@@ -145,6 +145,30 @@ TEST(Protocol, AnInProcessFaultStopsOnlyItsMethodAtItsFirstCase) {
   EXPECT_FALSE(r.interrupted);
 }
 
+// The handshake has a time limit of its own, apart from the answers'.
+TEST(Protocol, TheHandshakeHasItsOwnTimeLimit) {
+  ExternalOptions o = adapter({"slow-start"});
+  o.handshake_timeout = std::chrono::milliseconds(500);
+  try {
+    external_methods(o);
+    ADD_FAILURE() << "a handshake 2 s late was accepted within 500 ms";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no answer within 500 ms to the handshake (hung? the limit is "
+                                         "--external-handshake-timeout)"),
+              std::string::npos)
+        << e.what();
+  }
+  o.handshake_timeout = std::chrono::milliseconds(20000);  // the answers keep their 1,500 ms
+  EXPECT_EQ(external_methods(o).size(), 1u);
+}
+
+// The program's command line as the reproduce lines print it reads back to the same words in a
+// shell: a word with a space or a quote is quoted.
+TEST(Protocol, TheProgramIsNamedAsAShellReadsIt) {
+  const std::vector<Method> ms = external_methods(adapter({"ok", "two words", "it's"}));
+  EXPECT_EQ(ms.at(0).program, std::string(CULLPROOF_REFERENCE_ADAPTER) + R"( ok 'two words' 'it'\''s')");
+}
+
 TEST(Protocol, TheReferenceAdapterIsAMethodLikeAnyOther) {
   const std::vector<Method> ext = external_methods(adapter({"ok"}));
   ASSERT_EQ(ext.size(), 1u);
@@ -435,6 +459,37 @@ TEST(ProtocolReader, AMatrixCullerDeclaresTheDepthConventionsItReads) {
   EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": ["aabb"], "frustum": "matrix", "depth": []}]})"),
             "external program 'prog': handshake, methods[0]: \"depth\" must be a non-empty array of depth conventions "
             "(negative_one_to_one, zero_to_one, reversed_negative_one_to_one, reversed_zero_to_one)");
+}
+
+// A culler whose box test is three-way and whose sphere test is visible / not visible is one method.
+TEST(ProtocolReader, ThreeWayIsDeclaredPerKind) {
+  auto offered = [](const std::string& three_way) {
+    return protocol::parse_handshake(
+               R"({"protocol": 1, "methods": [{"name": "m", "volumes": ["aabb", "sphere"], "three_way": )" + three_way + "}]}",
+               "prog")
+        .at(0)
+        .info;
+  };
+  const MethodInfo mixed = offered(R"({"sphere": false, "aabb": true})");
+  EXPECT_TRUE(mixed.three_way);
+  EXPECT_EQ(mixed.two_way_kinds, unsigned(kSphereKind));
+  EXPECT_TRUE(mixed.three_way_on(kAabbKind));
+  EXPECT_FALSE(mixed.three_way_on(kSphereKind));
+  EXPECT_TRUE(offered(R"({"sphere": true})").three_way_on(kSphereKind));  // a kind not named is three-way
+  const MethodInfo two_way = offered(R"({"sphere": false, "aabb": false})");  // two-way on all it takes
+  EXPECT_FALSE(two_way.three_way);
+  EXPECT_EQ(two_way.two_way_kinds, 0u);
+  auto error = [](const std::string& three_way) {
+    return handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": ["aabb", "sphere"], "three_way": )" +
+                           three_way + "}]}");
+  };
+  EXPECT_EQ(error(R"({"obb": false})"),
+            "external program 'prog': handshake, methods[0]: \"three_way\" names \"obb\", which is not among its \"volumes\"");
+  EXPECT_EQ(error(R"({"sphere": "no"})"),
+            "external program 'prog': handshake, methods[0]: \"three_way\" \"sphere\" \"no\" is not true or false");
+  EXPECT_EQ(error(R"({"ball": false})"),
+            "external program 'prog': handshake, methods[0]: \"three_way\": unknown volume kind \"ball\" (point, sphere, aabb, obb)");
+  EXPECT_EQ(error("[]"), "external program 'prog': handshake, methods[0]: \"three_way\" [] is not true or false");
 }
 
 TEST(ProtocolReader, AnAnswerIsReadOrRefusedNamingTheFrame) {

@@ -5,7 +5,8 @@
 // Definitions used in the report (docs/semantics.md "Errors"):
 //  - false-intersect rate  = false intersects / cases whose truth is outside (the invisible
 //    volumes a method fails to cull), with a 95% Wilson score interval;
-//  - under-inside rate     = under-insides / cases whose truth is inside;
+//  - under-inside rate     = under-insides / cases whose truth is inside, of the volume kinds the
+//    method answers three-way;
 //  - distance of a false intersect = the oracle's exact Euclidean distance between the volume
 //    and the frustum, divided by the scene size (the diameter of the frustum's bounded part);
 //  - a claim is refuted by an error its claim forbids (see `violates_claim`), beyond the method's
@@ -89,9 +90,12 @@ struct MethodStats {
   Claim claim = Claim::none;
   Origin origin = Origin::user;
   bool three_way = true;
+  unsigned two_way_kinds = 0;  ///< of a three-way method, the kinds it answers two-way (MethodInfo)
   unsigned volumes = 0;     ///< the volume kinds the method takes (VolumeKind bits)
   std::uint64_t cases = 0;  ///< cases the method applies to
   std::uint64_t truth_outside = 0, truth_intersecting = 0, truth_inside = 0;
+  /// Of truth_inside, the volumes of the kinds it answers three-way: the under-inside rate's base.
+  std::uint64_t truth_inside_three_way = 0;
   std::uint64_t false_reject = 0, false_inside = 0, false_intersect = 0, under_inside = 0;
   std::uint64_t claim_violations = 0;
   std::uint64_t float_exact_violations = 0;  ///< of claim_violations, on float-exact cases (no allowance)

@@ -100,6 +100,13 @@ struct MethodInfo {
   /// or `outside` only; it is never charged with under-insides, and answering `inside` is a
   /// fault. make_method sets it to false for a classify that returns bool.
   bool three_way = true;
+  /// VolumeKind bits it answers two-way although it is three-way on the others (a culler whose box
+  /// test tells inside from intersecting and whose sphere test only visible from outside).
+  unsigned two_way_kinds = 0;
+  /// Whether it answers three-way on volumes of kind `kind_bit` (then under-insides are charged and
+  /// `inside` may be answered), or on `v`.
+  bool three_way_on(unsigned kind_bit) const noexcept { return three_way && !(two_way_kinds & kind_bit); }
+  bool three_way_on(const Volume& v) const noexcept { return three_way_on(volume_kind(v)); }
   /// A frame-coherent culler: its state carries over from frame to frame (see reset()).
   bool stateful = false;
   /// A user's method unless it says otherwise: its refuted claim fails the run.
