@@ -1,0 +1,84 @@
+// What a verification run costs per case, and where the time goes: the campaign's throughput
+// (cases judged per second) beside its parts, drawing the cases and the oracle's truth, which
+// bounds it.
+//
+// Cases: the `uniform` family, seed 1, as `cullproof verify` draws them (gen::draw).
+//
+// BM_Draw: draw one case (the RapidCheck generator and its Shrinkable tree).
+// BM_OracleTruth: the oracle's truth of one case (filtered; cases drawn beforehand), per case.
+// BM_Campaign/<set>/<threads>: run_verify over 20,000 cases of `uniform`, no timing, no corpus, no
+//   progress; set 0: one method (`pn-vertex`), set 1: every built-in method; items = cases.
+// BM_CampaignProtocol/<jobs>: the same run of the reference adapter (the n/p-vertex test behind the
+//   process protocol, tests/protocol/reference_adapter.cpp) with <jobs> copies, 2 threads; only
+//   built when the tests are.
+// Counters: cases_per_second (items_per_second) in every run.
+#include "cullproof/campaign/campaign.hpp"
+#include "cullproof/oracle/oracle.hpp"
+#ifdef CULLPROOF_REFERENCE_ADAPTER
+#include "cullproof/protocol/external.hpp"
+#endif
+
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+namespace {
+
+using namespace cullproof;
+
+constexpr gen::Distribution kFamily = gen::Distribution::uniform;
+constexpr std::uint64_t kRunCases = 20000;
+
+void BM_Draw(benchmark::State& state) {
+  std::uint64_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(gen::draw(kFamily, 1, i++).value());
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Draw);
+
+void BM_OracleTruth(benchmark::State& state) {
+  std::vector<gen::GenCase> cases;
+  for (std::uint64_t i = 0; i < 4096; ++i) cases.push_back(gen::draw(kFamily, 1, i).value());
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const gen::GenCase& c = cases[i++ % cases.size()];
+    benchmark::DoNotOptimize(oracle::truth(c.frustum, c.volume));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_OracleTruth);
+
+VerifyOptions run_options(int threads) {
+  VerifyOptions o;
+  o.cases = kRunCases;
+  o.seed = 1;
+  o.distributions = {kFamily};
+  o.threads = threads;
+  o.progress = false;
+  o.timing = false;
+  return o;
+}
+
+void BM_Campaign(benchmark::State& state) {
+  const std::vector<Method> methods = state.range(0) == 0 ? builtin_methods({"pn-vertex"}) : builtin_methods();
+  const VerifyOptions o = run_options(int(state.range(1)));
+  for (auto _ : state) benchmark::DoNotOptimize(run_verify(o, methods));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(kRunCases));
+  state.counters["methods"] = double(methods.size());
+}
+BENCHMARK(BM_Campaign)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+
+#ifdef CULLPROOF_REFERENCE_ADAPTER
+void BM_CampaignProtocol(benchmark::State& state) {
+  ExternalOptions e;
+  e.command = {CULLPROOF_REFERENCE_ADAPTER};
+  e.instances = int(state.range(0));
+  const std::vector<Method> methods = external_methods(e);
+  const VerifyOptions o = run_options(2);
+  for (auto _ : state) benchmark::DoNotOptimize(run_verify(o, methods));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(kRunCases));
+}
+BENCHMARK(BM_CampaignProtocol)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+#endif
+
+}  // namespace
