@@ -88,6 +88,9 @@ static int run(int argc, char** argv) {
   } catch (const CaseError& e) {
     std::cerr << "cullproof: " << e.what() << "\n";
     return 2;
+  } catch (const std::invalid_argument& e) {  // bad input: a name, an option's value
+    std::cerr << "cullproof: error: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "cullproof: error: " << e.what() << "\n";
     return 1;

@@ -55,7 +55,8 @@ std::vector<Method> builtin_methods(const std::vector<std::string>& names) {
     if (!m) {
       std::string known;
       for (const Method& k : builtin_methods()) known += (known.empty() ? "" : ", ") + k.name;
-      throw std::invalid_argument("unknown method '" + n + "' (known: " + known + ")");
+      throw std::invalid_argument("unknown method '" + n + "' (built-in: " + known +
+                                  "; a method behind a program is named with --external NAME -- PROGRAM: docs/protocol.md)");
     }
     out.push_back(*m);
   }

@@ -58,6 +58,10 @@ case "$mode" in
     echo "$log"
     expect 1 "first: cullproof verify --seed 3 --distribution contact --index [0-9]+ --external reference-pn-vertex -- "
     lines+=$'\n'$(grep -E '^      first: ' <<< "$log" | sed 's/^      first: //')
+    # A program's method named as a built-in one says how to name it.
+    log=$("$cullproof" verify -d contact --index 0 --method reference-pn-vertex 2>&1); status=$?
+    echo "$log"
+    expect 2 "unknown method 'reference-pn-vertex' \\(built-in: .*; a method behind a program is named with --external NAME -- PROGRAM"
     while IFS= read -r line; do
       method=$(sed -E 's/.*(--method|--external) ([^ ]+).*/\2/' <<< "$line")
       echo "== $line"
