@@ -53,13 +53,14 @@ int cmd_verify(VerifyOptions opt, const std::string& json_file, const std::vecto
   opt.on_distribution = [&](const DistributionResult& d) { print_table(d, opt.seed, std::cout); };
   const VerifyResult r = run_verify(opt, methods);
   print_table_notes(r, std::cout);
-  if (!json_file.empty()) write_file_atomic(json_file, to_json(r).dump(2) + "\n");
+  const nlohmann::json json = to_json(r);
+  if (!json_file.empty()) write_file_atomic(json_file, json.dump(2) + "\n");
   std::size_t written = 0;
   for (const auto& d : r.distributions)
     for (const auto& m : d.methods) written += m.corpus_written.size();
   if (opt.corpus) std::cout << "corpus: " << written << " new case(s) written under " << opt.corpus->string() << "\n";
 #ifdef CULLPROOF_HAVE_REPORT
-  report::print_summary(report::summarize(to_json(r)), std::cout);
+  report::print_summary(report::summarize(json), std::cout);
 #endif
   if (r.interrupted) {
     const int sig = g_signal ? int(g_signal) : SIGINT;

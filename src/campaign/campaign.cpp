@@ -92,7 +92,6 @@ class DistributionRun {
                                                      opt_.frame_size, opt_.seed));
         }
       }
-      if (!timing || s.fault) s.ns_per_test = s.ns_setup_per_frame = std::numeric_limits<double>::quiet_NaN();
       dr.methods.push_back(std::move(s));
     }
     return dr;

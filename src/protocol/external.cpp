@@ -110,16 +110,18 @@ class Process {
   ~Process() { stop(/*polite=*/true); }
   const std::string& name() const { return name_; }
 
-  // The handshake line, within the handshake's own time limit.
+  // The handshake line, within the handshake's own time limit; the first one is kept, for restart().
   std::string read_handshake() {
-    return read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake", opt_.handshake_timeout,
-                     "--external-handshake-timeout");
+    std::string h = read_line("the handshake", kMaxHandshakeBytes, "its handshake", "a handshake", opt_.handshake_timeout,
+                              "--external-handshake-timeout");
+    if (first_handshake_.empty()) first_handshake_ = h;
+    return h;
   }
 
-  // Starts the program again after a fault: the same handshake must come back. Calls that follow
-  // see a fresh program (generation() counts the starts, so that a stateful method's next frame
-  // says reset).
-  void restart(const std::string& expected_handshake) {
+  // Starts the program again after a fault: the handshake it gave first must come back. Calls that
+  // follow see a fresh program (generation() counts the starts, so that a stateful method's next
+  // frame says reset).
+  void restart() {
     const std::string after = dead_;
     stop(/*polite=*/false);
     dead_.clear();
@@ -127,7 +129,7 @@ class Process {
     try {
       start();
       const std::string h = read_handshake();
-      if (h != expected_handshake)
+      if (h != first_handshake_)
         fail("offered another handshake when started again than at first: " + excerpt(h));
     } catch (const std::runtime_error& e) {
       if (dead_.empty()) dead_ = e.what();
@@ -274,11 +276,11 @@ class Process {
   pid_t pid_ = -1;
   int to_ = -1, from_ = -1;
   std::string buffer_;
+  std::string first_handshake_;
 };
 
 struct External {
   std::vector<std::shared_ptr<Process>> processes;  // the program's copies; [0] for stateful methods
-  std::string handshake;                            // what every copy offered, and must offer again
   std::string method;
   bool stateful = false;
   bool wants_reset = false;   // set by reset(): the next frame starts a camera path
@@ -308,7 +310,7 @@ struct External {
 // One frame message and its answer: verdicts for `volumes`, in order.
 void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::size_t n, Answer* out) {
   auto [p, lock] = e.acquire();
-  if (p.dead()) p.restart(e.handshake);
+  if (p.dead()) p.restart();
   if (e.stateful && p.generation() != e.generation) {
     e.wants_reset = true;  // a program started again has forgotten every frame
     e.generation = p.generation();
@@ -504,7 +506,6 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
     info.program = process->name();
     auto e = std::make_shared<External>();
     e->processes = processes;
-    e->handshake = handshakes[0];
     e->method = info.name;
     e->stateful = info.stateful;
     e->wants_matrix = offered.wants_matrix;

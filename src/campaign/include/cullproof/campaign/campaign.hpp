@@ -103,8 +103,8 @@ struct MethodStats {
   std::optional<std::uint64_t> first_violation;
   std::string first_violation_reproduce;  ///< the command that reruns it (reproduce_command)
   std::vector<double> fi_distance;  ///< relative distances of false intersects
-  double ns_per_test = 0.0;         ///< classify, per volume, in frames (NaN: not timed)
-  double ns_setup_per_frame = 0.0;  ///< prepare, per frame (NaN: not timed)
+  double ns_per_test = std::numeric_limits<double>::quiet_NaN();         ///< classify, per volume, in frames (NaN: not timed)
+  double ns_setup_per_frame = std::numeric_limits<double>::quiet_NaN();  ///< prepare, per frame (NaN: not timed)
   bool timed_batch = false;         ///< classify was timed through the method's array form
   /// What the method reported of itself over the same frames (a program's own clock around its
   /// classification, without the protocol's messages); NaN when it reports nothing.
