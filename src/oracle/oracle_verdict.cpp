@@ -38,7 +38,10 @@ struct NPlane {
   I len;  // encloses |n|
 };
 
-I iv(const ET& x) { return I(CGAL::to_interval(x)); }
+// A zero is [0, 0]: CGAL's interval of a Gmpzf widens its mantissa by 2^-53 at the number's own
+// exponent, which for zero is 0, giving [0, 2^-53]; beside a plane whose |n| is near 1e-16 that is
+// as wide as the plane itself.
+I iv(const ET& x) { return CGAL::is_zero(x) ? I(0) : I(CGAL::to_interval(x)); }
 I iv(const Q& x) { return I(CGAL::to_interval(x)); }
 
 // The double of an interval's end nearer zero: a lower bound on |x| with x's sign.

@@ -135,6 +135,19 @@ TEST(VerdictDistance, UnnormalisedPlanesAndMatricesMeasureTheSame) {
                   1.0 - 0.5 / std::sqrt(2.0));
 }
 
+TEST(VerdictDistance, PlanesOfTinyCoefficientsMeasureAsTheUnitOnes) {
+  // The cube with every coefficient scaled by 2^-54 (|n| near 5.6e-17): the same distances. A
+  // normal's zero components must weigh nothing beside such a plane.
+  Frustum f = cube_frustum();
+  for (int k = 0; k < kPlaneCount; ++k) f[k] = Plane{f[k].n * 0x1p-54f, f[k].d * 0x1p-54f};
+  expect_distance(frustum_spec(f), Sphere{{2, 2, 0}, 0.5f}, Visibility::intersecting, Visibility::outside,
+                  VerdictShift::to_meeting, 1.0 - 0.5 / std::sqrt(2.0));
+  expect_distance(frustum_spec(f), Sphere{{0.875f, 0, 0}, 0.5f}, Visibility::outside, Visibility::intersecting,
+                  VerdictShift::to_outside, 0.625);
+  expect_distance(frustum_spec(f), Aabb{{1.25f, 1.25f, -0.125f}, {1.5f, 1.5f, 0.125f}}, Visibility::intersecting,
+                  Visibility::outside, VerdictShift::to_meeting, 0.25);
+}
+
 TEST(VerdictDistance, TheRightVerdictIsAtZeroAndNoShiftHelpsAnEmptyOrUnboundedFrustum) {
   const VerdictDistance right = distance_to_verdict(cube(), Aabb{{2, 2, 2}, {3, 3, 3}}, Visibility::outside);
   EXPECT_EQ(right.distance, 0.0);
