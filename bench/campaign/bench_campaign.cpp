@@ -2,9 +2,14 @@
 // (cases judged per second) beside its parts, drawing the cases and the oracle's truth, which
 // bounds it.
 //
-// Cases: the `uniform` family, seed 1, as `cullproof verify` draws them (gen::draw).
+// Cases: the `uniform` family, seed 1, as `cullproof verify` draws them (gen::draw_case).
 //
-// BM_Draw: draw one case (the RapidCheck generator and its Shrinkable tree).
+// BM_Draw: draw one case (gen::draw_case: the counter-based stream, no RapidCheck; the frame's
+//   camera drawn with every case).
+// BM_DrawFrames: cases drawn 256 at a time as the campaign draws them (gen::draw_cases: a frame's
+//   camera once per 16 cases), per case.
+// BM_DrawShrinkable: the same case as the Shrinkable a mismatch is shrunk from (gen::draw: drawn,
+//   then replayed inside RapidCheck), its root evaluated; paid once per error recorded.
 // BM_OracleTruth: the oracle's truth of one case (filtered; cases drawn beforehand), per case.
 // BM_Campaign/<set>/<threads>: run_verify over 20,000 cases of `uniform`, no timing, no corpus, no
 //   progress; set 0: one method (`pn-vertex`), set 1: every built-in method; items = cases.
@@ -31,14 +36,33 @@ constexpr std::uint64_t kRunCases = 20000;
 
 void BM_Draw(benchmark::State& state) {
   std::uint64_t i = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(gen::draw(kFamily, 1, i++).value());
+  for (auto _ : state) benchmark::DoNotOptimize(gen::draw_case(kFamily, 1, i++));
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_Draw);
 
+void BM_DrawFrames(benchmark::State& state) {
+  std::vector<gen::GenCase> cases(256);
+  std::uint64_t first = 0;
+  for (auto _ : state) {
+    gen::draw_cases(kFamily, 1, first, cases.size(), cases.data());
+    benchmark::DoNotOptimize(cases.data());
+    first += cases.size();
+  }
+  state.SetItemsProcessed(state.iterations() * std::int64_t(cases.size()));
+}
+BENCHMARK(BM_DrawFrames);
+
+void BM_DrawShrinkable(benchmark::State& state) {
+  std::uint64_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(gen::draw(kFamily, 1, i++).value());
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_DrawShrinkable);
+
 void BM_OracleTruth(benchmark::State& state) {
   std::vector<gen::GenCase> cases;
-  for (std::uint64_t i = 0; i < 4096; ++i) cases.push_back(gen::draw(kFamily, 1, i).value());
+  for (std::uint64_t i = 0; i < 4096; ++i) cases.push_back(gen::draw_case(kFamily, 1, i));
   std::size_t i = 0;
   for (auto _ : state) {
     const gen::GenCase& c = cases[i++ % cases.size()];

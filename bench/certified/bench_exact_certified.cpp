@@ -241,7 +241,7 @@ void register_stages(const char* kind, Classify classify) {
       std::vector<ExactCertifiedFrustum> ef;
       std::vector<K> ev;
       for (std::uint64_t i = 0; i < kStageCases; ++i) {
-        const gen::GenCase g = gen::draw(d, kSeed, i).value();
+        const gen::GenCase g = gen::draw_case(d, kSeed, i);
         const K* v = std::get_if<K>(&g.volume);
         if (!v) continue;
         const ExactCertifiedFrustum f = prepare_exact_certified(g.frustum);

@@ -164,9 +164,8 @@ std::vector<std::string> shrunk_sizes(const std::vector<Method>& ms, const std::
       // at least that many, up to 1,000). A case recorded with its camera path was not shrunk.
       double found = r;
       if (!e.path) {
-        const gen::GenCase g = gen::draw(gen::parse_distributions(e.distribution).at(0), x.at("seed").get<std::uint64_t>(),
-                                         x.at("index").get<std::uint64_t>())
-                                   .value();
+        const gen::GenCase g = gen::draw_case(gen::parse_distributions(e.distribution).at(0),
+                                              x.at("seed").get<std::uint64_t>(), x.at("index").get<std::uint64_t>());
         const Answer v = checked_classify(m, g.frustum, g.volume);
         const double a = m.tolerance * gen::case_scale(g.frustum, g.volume);
         found = v && a > 0.0 && !gen::float_exact(g.frustum, g.volume) ? error_distance(g.frustum, g.volume, *v) / a

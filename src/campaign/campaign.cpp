@@ -98,22 +98,30 @@ class DistributionRun {
   }
 
  private:
-  // RapidCheck's generation context is process-global (not thread-safe): cases are drawn on this
-  // thread, the oracle and the methods run in parallel. Camera-path cases come path by path: each
-  // path is drawn once (and kept for the stateful methods, which run over it).
+  // Cases are drawn in parallel (each from its own index: gen::draw_case), in blocks so that a stop
+  // request ends the drawing with the cases before it drawn. Camera-path cases come path by path:
+  // each path is drawn once (and kept for the stateful methods, which run over it).
   void draw_cases() {
-    for (std::uint64_t i = 0; i < per_; ++i) {
-      if (i % 1024 == 0 && stopped()) break;
-      drawn_ = i + 1;
+    constexpr std::uint64_t kBlock = 1 << 14;
+    for (std::uint64_t start = 0; start < per_ && !stopped(); start += kBlock) {
+      const std::uint64_t end = std::min(per_, start + kBlock);
       if (on_paths_) {
-        const gen::PathIndex at = gen::path_index(first_ + i);
-        auto it = paths_.find(at.path);
-        if (it == paths_.end()) it = paths_.emplace(at.path, gen::draw_path(opt_.seed, at.path)).first;
-        cases_[i] = gen::path_case(it->second, at.frame, at.object);
-      } else {
-        cases_[i] = gen::draw(d_, opt_.seed, first_ + i).value();
+        for (std::uint64_t i = start; i < end; ++i) {
+          const gen::PathIndex at = gen::path_index(first_ + i);
+          if (!paths_.count(at.path)) paths_.emplace(at.path, gen::draw_path(opt_.seed, at.path));
+        }
       }
-      validate(cases_[i].volume);
+      tbb::parallel_for(tbb::blocked_range<std::uint64_t>(start, end, 256), [&](const tbb::blocked_range<std::uint64_t>& r) {
+        if (!on_paths_) gen::draw_cases(d_, opt_.seed, first_ + r.begin(), r.size(), &cases_[r.begin()]);
+        for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
+          if (on_paths_) {
+            const gen::PathIndex at = gen::path_index(first_ + i);
+            cases_[i] = gen::path_case(paths_.at(at.path), at.frame, at.object);
+          }
+          validate(cases_[i].volume);
+        }
+      });
+      drawn_ = end;
     }
   }
 
@@ -166,22 +174,60 @@ class DistributionRun {
     };
   }
 
+  // The run's cases [a, b) of the frame of case a (relative indices): a family's frame
+  // (gen::cases_per_frame), clipped to the run.
+  std::uint64_t frame_end(std::uint64_t a) const {
+    const std::uint64_t per = gen::cases_per_frame(d_);
+    return std::min(drawn_, a + (per - (first_ + a) % per));
+  }
+
   // The truth of every case, in parallel, and the verdicts of the methods that are not stateful
-  // (off camera paths).
+  // (off camera paths): frame by frame, as an engine culls, each method preparing the frame once
+  // and classifying its volumes in order (a batch method in one call).
   void run_case_by_case() {
-    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, drawn_, 64), [&](const tbb::blocked_range<std::uint64_t>& r) {
+    std::vector<std::uint64_t> starts;  // of the frames
+    for (std::uint64_t a = 0; a < drawn_; a = frame_end(a)) starts.push_back(a);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, starts.size(), std::max<std::size_t>(1, 64 / gen::cases_per_frame(d_))),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
       if (stopped()) return;
-      for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
-        out_[i].truth = oracle::truth(cases_[i].frustum, cases_[i].volume);
-        out_[i].float_exact = gen::float_exact(cases_[i].frustum, cases_[i].volume);
-        out_[i].verdict.resize(ms_.size(), kNotAsked);
-        out_[i].judged = true;
-        if (!on_paths_)
-          for (std::size_t k = 0; k < ms_.size(); ++k)
-            if (!ms_[k].stateful) run_one(i, k);
+      std::uint64_t judged = 0;
+      for (std::size_t u = r.begin(); u != r.end(); ++u) {
+        const std::uint64_t a = starts[u], b = frame_end(a);
+        for (std::uint64_t i = a; i < b; ++i) {
+          out_[i].truth = oracle::truth(cases_[i].frustum, cases_[i].volume);
+          out_[i].float_exact = gen::float_exact(cases_[i].frustum, cases_[i].volume);
+          out_[i].verdict.resize(ms_.size(), kNotAsked);
+          out_[i].judged = true;
+        }
+        judged += b - a;
+        if (on_paths_) continue;
+        for (std::size_t k = 0; k < ms_.size(); ++k)
+          if (!ms_[k].stateful) run_frame(a, b, k);
       }
-      progress_.add(r.size());
+      progress_.add(judged);
     });
+  }
+
+  // Method k on the frame of cases [a, b): one case alone as ever; several as one frame. A fault on
+  // the frame (a batch call names no single volume) is looked for case by case, so that the fault
+  // is charged to the case that makes it; one the cases alone do not make is the frame's.
+  void run_frame(std::uint64_t a, std::uint64_t b, std::size_t k) {
+    if (b - a == 1) return run_one(a, k);
+    if (!asks(k, first_ + a)) return;
+    const std::vector<CaseFrustum> frame{cases_[a].frustum};
+    std::vector<Volume> volumes;
+    for (std::uint64_t i = a; i < b; ++i) volumes.push_back(cases_[i].volume);
+    try {
+      run_path(ms_[k], frame, 0, 0, volumes, [&](std::size_t, std::size_t o, const Answer& v) {
+        if (asks(k, first_ + a + o)) out_[a + o].verdict[k] = verdict_code(v);
+      }, /*reset=*/false);
+    } catch (const PathFault& e) {
+      for (std::uint64_t i = a; i < b && asks(k, first_ + i); ++i) run_one(i, k);
+      if (asks(k, first_ + b - 1))
+        note_fault(first_ + a + e.object, k,
+                   fmt::format("{} (on the frame of cases {} to {}, classified in order; no case alone makes it)", e.what(),
+                               first_ + a, first_ + b - 1));
+    }
   }
 
   // On camera paths every method meets each frame as an engine does: prepared once, then the
@@ -365,9 +411,22 @@ class DistributionRun {
     return s;
   }
 
+  // Case i with its frame's volumes (a framed family's frame, clipped to the run), as a path of one
+  // frame.
+  PathCase frame_case_at(std::uint64_t i) const {
+    const std::uint64_t a = i - std::min(i, (first_ + i) % gen::cases_per_frame(d_)), b = frame_end(a);
+    PathCase pc;
+    pc.frames = {cases_[a].frustum};
+    for (std::uint64_t j = a; j < b; ++j) pc.objects.push_back(cases_[j].volume);
+    pc.object = std::size_t(i - a);
+    pc.motion = "still";
+    return pc;
+  }
+
   // Shrinks method k's error on case i and writes it to the corpus. On a camera path, an error that
   // needs what came before (earlier frames for a stateful method, the frame's earlier objects for
-  // any) is kept with its path.
+  // any) is kept with its path; so is an error on a framed family's case that needs the frame's
+  // earlier volumes.
   void record(std::size_t k, std::uint64_t i, ErrorClass cls, bool violation, MethodStats& s) {
     const Method& m = ms_[k];
     const Visibility t = out_[i].truth;
@@ -381,8 +440,9 @@ class DistributionRun {
     };
     std::optional<PathCase> path;
     GenCase small;
-    if (on_paths_ && (m.stateful || !alone_shows_it())) {
-      PathCase pc = path_case_at(first_ + i);
+    const bool framed = !on_paths_ && gen::cases_per_frame(d_) > 1 && !m.stateful;
+    if ((on_paths_ && (m.stateful || !alone_shows_it())) || (framed && !alone_shows_it())) {
+      PathCase pc = on_paths_ ? path_case_at(first_ + i) : frame_case_at(i);
       if (!m.stateful) pc.frames = {pc.frames.back()};
       path = shrink_path(std::move(pc), m, cls, t, opt_.shrink_budget);
       small = cases_[i];

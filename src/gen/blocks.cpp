@@ -1,10 +1,13 @@
 // The building blocks the families draw with (blocks.hpp).
 #include "blocks.hpp"
 
+#include "cullproof/core/splitmix.hpp"
+
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 #include <variant>
@@ -12,17 +15,52 @@
 namespace cullproof::gen::detail {
 
 
+namespace {
+
+thread_local FastDraw* t_fast = nullptr;
+thread_local Replay* t_replay = nullptr;
+
+// RapidCheck's draw of [lo, hi] whose value, until shrunk, is `root`.
+rc::Gen<std::int64_t> rooted(std::int64_t lo, std::int64_t root) {
+  return [lo, root](const rc::Random&, int) {
+    return rc::shrinkable::shrinkRecur(root, [lo](std::int64_t x) { return rc::shrink::towards(x, lo); });
+  };
+}
+
+}  // namespace
+
+FastDraw::FastDraw(std::uint64_t key, std::vector<std::int64_t>* log) : key_(key), log_(log), outer_(t_fast) {
+  t_fast = this;
+}
+FastDraw::~FastDraw() { t_fast = outer_; }
+
+Replay::Replay(const std::vector<std::int64_t>& values) : values_(values), outer_(t_replay) { t_replay = this; }
+Replay::~Replay() { t_replay = outer_; }
+
+std::int64_t integer(std::int64_t lo, std::int64_t hi) {
+  if (FastDraw* f = t_fast) {
+    const std::uint64_t r = splitmix64(f->key_ + 0x9E3779B97F4A7C15ull * ++f->count_);
+    const std::uint64_t span = std::uint64_t(hi) - std::uint64_t(lo) + 1;  // 0: the whole of int64
+    const std::uint64_t k = span == 0 ? r : std::uint64_t((static_cast<unsigned __int128>(r) * span) >> 64);
+    const std::int64_t x = std::int64_t(std::uint64_t(lo) + k);
+    if (f->log_) f->log_->push_back(x);
+    return x;
+  }
+  if (Replay* r = t_replay) {
+    const std::size_t at = r->next_++;
+    const std::int64_t root = at < r->values_.size() ? std::clamp(r->values_[at], lo, hi) : lo;
+    return *rooted(lo, root);
+  }
+  return *rc::gen::inRange<std::int64_t>(lo, hi + 1);
+}
+
 constexpr std::int64_t kSteps = std::int64_t(1) << 30;
 
-// A double in [0, 1], shrinking towards 0.
-rc::Gen<double> unit() {
-  return rc::gen::map(rc::gen::inRange<std::int64_t>(0, kSteps + 1),
-                      [](std::int64_t k) { return double(k) / double(kSteps); });
-}
-double in(double lo, double hi) { return lo + (hi - lo) * *unit(); }
+double unit() { return double(integer(0, kSteps)) / double(kSteps); }
+double in(double lo, double hi) { return lo + (hi - lo) * unit(); }
 double log_in(double lo_exp10, double hi_exp10) { return std::pow(10.0, in(lo_exp10, hi_exp10)); }
-bool coin(int percent_true) { return *rc::gen::inRange(0, 100) < percent_true; }
-int pick(int n) { return *rc::gen::inRange(0, n); }
+bool coin(int percent_true) { return integer(0, 99) < percent_true; }
+int pick(int n) { return int(integer(0, n - 1)); }
 
 glm::dvec3 unit_vector() {
   const double z = in(-1.0, 1.0), a = in(0.0, 2.0 * M_PI), s = std::sqrt(std::max(0.0, 1.0 - z * z));
@@ -31,7 +69,7 @@ glm::dvec3 unit_vector() {
 
 // A rotation from three uniforms (Shoemake), as a float matrix: orthonormal only up to rounding.
 glm::mat3 rotation() {
-  const double u1 = *unit(), u2 = in(0, 2 * M_PI), u3 = in(0, 2 * M_PI);
+  const double u1 = unit(), u2 = in(0, 2 * M_PI), u3 = in(0, 2 * M_PI);
   const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
   const glm::quat q(float(a * std::sin(u2)), float(a * std::cos(u2)), float(b * std::sin(u3)), float(b * std::cos(u3)));
   return glm::mat3_cast(glm::normalize(q));
@@ -182,7 +220,7 @@ Volume volume_at(Shape shape, const glm::dvec3& c, double s) {
 const int kFaceCorners[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
 
 glm::dvec3 point_on_face(const Placement& p, int face) {
-  const double u = *unit(), v = *unit();
+  const double u = unit(), v = unit();
   const auto& k = kFaceCorners[face];
   const glm::dvec3 a = glm::mix(p.corner[k[0]], p.corner[k[1]], u), b = glm::mix(p.corner[k[3]], p.corner[k[2]], u);
   return glm::mix(a, b, v);
@@ -210,7 +248,7 @@ Volume near_corner(const Placement& p, Shape shape, double s) {
   if (coin(60)) {  // an edge: two corners differing in one index bit
     const int i = pick(8), bit = 1 << pick(3);
     const int j = i ^ bit;
-    x = glm::mix(p.corner[i], p.corner[j], *unit());
+    x = glm::mix(p.corner[i], p.corner[j], unit());
     out = glm::normalize((p.corner[i] + p.corner[j]) * 0.5 - p.center);
   } else {
     const int i = pick(8);

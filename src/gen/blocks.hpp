@@ -7,17 +7,66 @@
 #include "cullproof/gen/generators.hpp"
 
 #include <array>
+#include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace cullproof::gen::detail {
 
-// ---- Draws (inside rc::gen::exec) ----------------------------------------------------------
-/// A double in [0, 1], shrinking towards 0.
-rc::Gen<double> unit();
+// ---- Draws -----------------------------------------------------------------------------------
+// Every random choice of a family is one integer(lo, hi), drawn one of three ways:
+//  - inside rc::gen::exec (the property tests): from RapidCheck, shrinking towards lo;
+//  - under a FastDraw (the campaign's cases and frames): the k-th draw is a function of the key
+//    and k alone (splitmix64 of key + k * golden ratio, reduced to the range by Lemire's
+//    multiply), no allocation, no shared state, so any case is drawn directly from its index and
+//    on any thread; the values drawn may be logged;
+//  - under a Replay inside rc::gen::exec: from RapidCheck, but each draw's value, until shrunk, is
+//    the logged value of the same position (clamped to its range), so that the Shrinkable's root is
+//    the case the FastDraw drew and its shrinks are RapidCheck's.
+
+/// The draws of the enclosed code come from `key`'s stream (this thread, for the scope's life).
+class FastDraw {
+ public:
+  explicit FastDraw(std::uint64_t key, std::vector<std::int64_t>* log = nullptr);
+  ~FastDraw();
+  FastDraw(const FastDraw&) = delete;
+  FastDraw& operator=(const FastDraw&) = delete;
+
+ private:
+  friend std::int64_t integer(std::int64_t lo, std::int64_t hi);
+  std::uint64_t key_, count_ = 0;
+  std::vector<std::int64_t>* log_;
+  FastDraw* outer_;
+};
+
+/// The draws of the enclosed code (run inside rc::gen::exec) start from `values` in order.
+class Replay {
+ public:
+  explicit Replay(const std::vector<std::int64_t>& values);
+  ~Replay();
+  Replay(const Replay&) = delete;
+  Replay& operator=(const Replay&) = delete;
+
+ private:
+  friend std::int64_t integer(std::int64_t lo, std::int64_t hi);
+  const std::vector<std::int64_t>& values_;
+  std::size_t next_ = 0;
+  Replay* outer_;
+};
+
+/// An integer in [lo, hi] (lo <= hi), shrinking towards lo.
+std::int64_t integer(std::int64_t lo, std::int64_t hi);
+/// A double in [0, 1] (a multiple of 2^-30), shrinking towards 0.
+double unit();
 double in(double lo, double hi);
 double log_in(double lo_exp10, double hi_exp10);
 bool coin(int percent_true);
 int pick(int n);
+/// One of the values, shrinking towards the first.
+template <class T, std::size_t N>
+T one_of(const T (&values)[N]) {
+  return values[std::size_t(pick(int(N)))];
+}
 glm::dvec3 unit_vector();
 /// A rotation from three uniforms (Shoemake), as a float matrix: orthonormal only up to rounding.
 glm::mat3 rotation();
@@ -106,5 +155,6 @@ GenCase subnormal_case();
 GenCase exact_touching_case();                           // integer_frusta.cpp
 GenCase exact_containment_case();
 GenCase exact_degenerate_case();
+CameraPath make_camera_path();                           // camera_path.cpp
 
 }  // namespace cullproof::gen::detail

@@ -39,37 +39,37 @@ Camera moved(const Camera& base, const std::string& motion, int k, const glm::dv
 
 }  // namespace
 
-rc::Gen<CameraPath> camera_path() {
-  return rc::gen::resize(100, rc::gen::exec([] {
-    static const char* const kMotions[] = {"still", "translation", "rotation-x", "rotation-y",
-                                           "rotation-z", "general", "zoom"};
-    CameraPath path;
-    path.motion = kMotions[pick(7)];
-    const Camera base = generic_camera();
-    const Placement first = placement_for(base);
-    // Per frame: a step of 0.1% to 10% of the scene, a turn of 0.001 to 0.2 radians, a zoom of
-    // 0.5% to 10%, so that over the path the objects placed about the frusta cross their faces.
-    const glm::dvec3 step = unit_vector() * (first.size * log_in(-3, -1));
-    const glm::dvec3 axis = unit_vector();
-    const double angle = (coin(50) ? 1 : -1) * log_in(-3, -0.7);
-    const double zoom = coin(50) ? 1.0 + log_in(-2.3, -1) : 1.0 / (1.0 + log_in(-2.3, -1));
-    std::vector<Placement> places;
-    for (int k = 0; k < int(kPathFrames); ++k) {
-      const Camera c = moved(base, path.motion, k, step, axis, angle, zoom);
-      path.frames.push_back(realize(c));
-      places.push_back(placement_for(c));
-      path.scene_size.push_back(places.back().size);
-    }
-    // Objects about the first, middle and last frames' frusta: near their faces and corners, or
-    // anywhere around them.
-    static constexpr Distribution kAround[] = {Distribution::near_boundary, Distribution::corner, Distribution::uniform};
-    for (std::size_t i = 0; i < kPathObjects; ++i) {
-      const Placement& p = places[std::size_t(std::array<int, 3>{0, int(kPathFrames) / 2, int(kPathFrames) - 1}[pick(3)])];
-      path.objects.push_back(generic_volume(kAround[pick(3)], p));
-    }
-    return path;
-  }));
+CameraPath detail::make_camera_path() {
+  static const char* const kMotions[] = {"still", "translation", "rotation-x", "rotation-y",
+                                         "rotation-z", "general", "zoom"};
+  CameraPath path;
+  path.motion = kMotions[pick(7)];
+  const Camera base = generic_camera();
+  const Placement first = placement_for(base);
+  // Per frame: a step of 0.1% to 10% of the scene, a turn of 0.001 to 0.2 radians, a zoom of
+  // 0.5% to 10%, so that over the path the objects placed about the frusta cross their faces.
+  const glm::dvec3 step = unit_vector() * (first.size * log_in(-3, -1));
+  const glm::dvec3 axis = unit_vector();
+  const double angle = (coin(50) ? 1 : -1) * log_in(-3, -0.7);
+  const double zoom = coin(50) ? 1.0 + log_in(-2.3, -1) : 1.0 / (1.0 + log_in(-2.3, -1));
+  std::vector<Placement> places;
+  for (int k = 0; k < int(kPathFrames); ++k) {
+    const Camera c = moved(base, path.motion, k, step, axis, angle, zoom);
+    path.frames.push_back(realize(c));
+    places.push_back(placement_for(c));
+    path.scene_size.push_back(places.back().size);
+  }
+  // Objects about the first, middle and last frames' frusta: near their faces and corners, or
+  // anywhere around them.
+  static constexpr Distribution kAround[] = {Distribution::near_boundary, Distribution::corner, Distribution::uniform};
+  for (std::size_t i = 0; i < kPathObjects; ++i) {
+    const Placement& p = places[std::size_t(std::array<int, 3>{0, int(kPathFrames) / 2, int(kPathFrames) - 1}[pick(3)])];
+    path.objects.push_back(generic_volume(kAround[pick(3)], p));
+  }
+  return path;
 }
+
+rc::Gen<CameraPath> camera_path() { return rc::gen::resize(100, rc::gen::exec(detail::make_camera_path)); }
 
 PathIndex path_index(std::uint64_t index) noexcept {
   PathIndex p;

@@ -49,8 +49,8 @@ Obb permuted_obb(const ExactFrame& e, const Aabb& view_box) {
 
 GenCase contact_ortho() {
   const ExactFrame e = exact_frame();
-  const float w = std::ldexp(1.0f, *rc::gen::inRange(-1, 3));  // 0.5 .. 4
-  const float n = e.n, f = n + std::ldexp(1.0f, *rc::gen::inRange(0, 5));
+  const float w = std::ldexp(1.0f, int(integer(-1, 2)));  // 0.5 .. 4
+  const float n = e.n, f = n + std::ldexp(1.0f, int(integer(0, 4)));
   const int shape = pick(10);  // 0-3 box, 4-5 OBB, 6-7 point, 8-9 sphere
   // Face coordinates per view axis: the inside is [lo, hi].
   const glm::vec3 lo(-w, -w, -f), hi(w, w, -n);

@@ -6,6 +6,7 @@
 #include "cullproof/core/certified.hpp"
 #include "cullproof/core/splitmix.hpp"
 
+#include <memory>
 #include <stdexcept>
 
 namespace cullproof::gen {
@@ -26,24 +27,27 @@ struct Entry {
   bool generic;      ///< in "all-generic", the campaign's default
   int hard_rank;     ///< its place in "all-hard" (1 first), 0: not a hard family
   bool overflows;    ///< float sums overflow on it: left out of the test helper's default
-  GenCase (*make)(); ///< one case, inside rc::gen::exec
+  GenCase (*make)(); ///< one case (its draws: blocks.hpp)
+  /// A generic camera and a volume about it (generic_case): drawn in frames of kFrameCases cases
+  /// that share the camera.
+  bool framed = false;
 };
 
 // "all" is this table's order. A case's stream is keyed on the enumerator's value, so a new
 // distribution takes a new enumerator at the end of the enum and an entry here.
 constexpr Entry kDistributions[] = {
     {Distribution::uniform, "uniform", "volumes of all sizes anywhere around the frustum", true, 0, false,
-     [] { return generic_case(Distribution::uniform); }},
+     [] { return generic_case(Distribution::uniform); }, true},
     {Distribution::near_boundary, "near-boundary", "within a few box sizes of a frustum face", true, 0, false,
-     [] { return generic_case(Distribution::near_boundary); }},
+     [] { return generic_case(Distribution::near_boundary); }, true},
     {Distribution::corner, "corner", "near frustum edges and corners, where n/p tests err (Assarsson & Moller fig. 2)",
-     true, 10, false, [] { return generic_case(Distribution::corner); }},
+     true, 10, false, [] { return generic_case(Distribution::corner); }, true},
     {Distribution::enclosing, "enclosing", "volumes about as large as the frustum, often containing it", true, 0, false,
-     [] { return generic_case(Distribution::enclosing); }},
+     [] { return generic_case(Distribution::enclosing); }, true},
     {Distribution::tiny_huge, "tiny-huge", "sizes from 1e-7 to 10 times the frustum", true, 0, false,
-     [] { return generic_case(Distribution::tiny_huge); }},
+     [] { return generic_case(Distribution::tiny_huge); }, true},
     {Distribution::degenerate, "degenerate", "flat, segment and point boxes, zero-radius spheres, points", true, 6, false,
-     [] { return generic_case(Distribution::degenerate); }},
+     [] { return generic_case(Distribution::degenerate); }, true},
     {Distribution::touch, "touch", "exactly touching a plane at a face, an edge or a vertex (exact values)", false, 1,
      false, [] { return touch_case(false); }},
     {Distribution::ulp, "ulp", "touching, then moved 1 ulp in or out", false, 2, false, [] { return touch_case(true); }},
@@ -188,21 +192,89 @@ std::uint64_t draw_key(std::uint64_t seed, Distribution d, std::uint64_t index) 
   return splitmix64(splitmix64(splitmix64(seed) ^ std::uint64_t(d)) ^ index);
 }
 
+// Frame cameras are drawn from a stream apart from the cases' volumes ("camera" in ASCII).
+constexpr std::uint64_t kCameraStream = 0x63616d657261ull;
+
+// The case's own draw, keyed by (seed, d, index), off RapidCheck; its values logged when asked. A
+// framed family's camera comes from its frame's key, the volume from the case's: the same draws,
+// in the same order, as generic_case makes.
+GenCase fast_case(Distribution d, std::uint64_t seed, std::uint64_t index, std::vector<std::int64_t>* log = nullptr) {
+  const Entry& e = entry(d);
+  if (e.framed) {
+    FastDraw camera_scope(draw_key(seed ^ kCameraStream, d, index / kFrameCases), log);
+    const Camera cam = generic_camera();
+    const Placement p = placement_for(cam);
+    FastDraw volume_scope(draw_key(seed, d, index), log);
+    return make(cam, p, generic_volume(d, p));
+  }
+  FastDraw scope(draw_key(seed, d, index), log);
+  return e.make();
+}
+
+CameraPath fast_path(std::uint64_t seed, std::uint64_t path, std::vector<std::int64_t>* log = nullptr) {
+  FastDraw scope(draw_key(seed, Distribution::camera_path, path), log);
+  return make_camera_path();
+}
+
 }  // namespace
 
-rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index) {
+GenCase draw_case(Distribution d, std::uint64_t seed, std::uint64_t index) {
   if (d == Distribution::camera_path) {
-    // The case's path, picked from: its shrinks are simpler paths, seen at the same frame and object.
     const PathIndex at = path_index(index);
-    return rc::gen::map(camera_path(), [at](const CameraPath& p) { return path_case(p, at.frame, at.object); })(
-        rc::Random(draw_key(seed, d, at.path)), 100);
+    return path_case(draw_path(seed, at.path), at.frame, at.object);
   }
-  return case_of(d)(rc::Random(draw_key(seed, d, index)), 100);
+  return fast_case(d, seed, index);
 }
 
-CameraPath draw_path(std::uint64_t seed, std::uint64_t path) {
-  return camera_path()(rc::Random(draw_key(seed, Distribution::camera_path, path)), 100).value();
+rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index) {
+  // The fast draw's values, replayed inside RapidCheck: the root is draw_case's case.
+  auto values = std::make_shared<std::vector<std::int64_t>>();
+  if (d == Distribution::camera_path) {
+    // The case's path, replayed: its shrinks are simpler paths, seen at the same frame and object.
+    const PathIndex at = path_index(index);
+    fast_path(seed, at.path, values.get());
+    return rc::gen::exec([values, at] {
+      Replay replay(*values);
+      return path_case(make_camera_path(), at.frame, at.object);
+    })(rc::Random(), 100);
+  }
+  fast_case(d, seed, index, values.get());
+  const Entry& e = entry(d);
+  return rc::gen::exec([values, &e] {
+    Replay replay(*values);
+    return e.make();
+  })(rc::Random(), 100);
 }
+
+void draw_cases(Distribution d, std::uint64_t seed, std::uint64_t first, std::size_t count, GenCase* out) {
+  const Entry& e = entry(d);
+  if (!e.framed) {
+    for (std::size_t k = 0; k < count; ++k) out[k] = draw_case(d, seed, first + k);
+    return;
+  }
+  // The frame's camera, its frustum and placement once per frame.
+  std::uint64_t frame = ~std::uint64_t(0);
+  Placement p;
+  CaseFrustum f;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint64_t index = first + k;
+    if (index / kFrameCases != frame) {
+      frame = index / kFrameCases;
+      FastDraw camera_scope(draw_key(seed ^ kCameraStream, d, frame));
+      const Camera cam = generic_camera();
+      p = placement_for(cam);
+      f = realize(cam);
+    }
+    FastDraw volume_scope(draw_key(seed, d, index));
+    out[k].frustum = f;
+    out[k].volume = generic_volume(d, p);
+    out[k].scene_size = p.size;
+  }
+}
+
+std::size_t cases_per_frame(Distribution d) { return entry(d).framed ? kFrameCases : 1; }
+
+CameraPath draw_path(std::uint64_t seed, std::uint64_t path) { return fast_path(seed, path); }
 
 Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::size_t size, unsigned kinds) {
   // Frames are drawn from streams apart from the cases' ("frame" in ASCII mixed into the seed).
@@ -220,24 +292,21 @@ Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::s
       if ((kinds & volume_kind(v)) && out.volumes.size() < size) out.volumes.push_back(v);
     return out;
   }
-  if (entry(d).generic) {
+  if (entry(d).framed) {
     // One camera, then volumes of the distribution around its frustum: an engine's frame.
-    out = rc::gen::exec([&] {
-      Frame fr;
-      const Camera cam = generic_camera();
-      const Placement p = placement_for(cam);
-      fr.frustum = realize(cam);
-      for (std::size_t k = 0; k < attempts && fr.volumes.size() < size; ++k) {
-        Volume v = generic_volume(d, p);
-        if (kinds & volume_kind(v)) fr.volumes.push_back(std::move(v));
-      }
-      return fr;
-    })(rc::Random(draw_key(seed ^ kFrameStream, d, index)), 100).value();
+    FastDraw scope(draw_key(seed ^ kFrameStream, d, index));
+    const Camera cam = generic_camera();
+    const Placement p = placement_for(cam);
+    out.frustum = realize(cam);
+    for (std::size_t k = 0; k < attempts && out.volumes.size() < size; ++k) {
+      Volume v = generic_volume(d, p);
+      if (kinds & volume_kind(v)) out.volumes.push_back(std::move(v));
+    }
   } else {
     // The hard families build frustum and volume together: the first case's frustum with the
     // volumes of the cases that follow it.
     for (std::uint64_t k = 0; k < attempts && out.volumes.size() < size; ++k) {
-      GenCase c = draw(d, seed ^ kFrameStream, index * attempts + k).value();
+      GenCase c = draw_case(d, seed ^ kFrameStream, index * attempts + k);
       if (k == 0) out.frustum = c.frustum;
       if (kinds & volume_kind(c.volume)) out.volumes.push_back(std::move(c.volume));
     }

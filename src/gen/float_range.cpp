@@ -192,22 +192,22 @@ GenCase huge_case() {
     // times in four the planes (or the matrix) scaled up to FLT_MAX as well, so that n.x overflows.
     double length = volume_magnitude(g.volume);
     for (const auto& c : p.corner) length = std::max({length, std::abs(c.x), std::abs(c.y), std::abs(c.z)});
-    scale_to(g, length, *rc::gen::inRange(118, 128));
+    scale_to(g, length, int(integer(118, 127)));
     if (coin(75)) {
-      if (g.frustum.matrix) scale_matrix_to(g, *rc::gen::inRange(120, 128));
+      if (g.frustum.matrix) scale_matrix_to(g, int(integer(120, 127)));
       else
-        for (Plane& pl : g.frustum.planes.planes) scale_plane_to(pl, *rc::gen::inRange(110, 128));
+        for (Plane& pl : g.frustum.planes.planes) scale_plane_to(pl, int(integer(110, 127)));
     }
   } else if (kind < 60) {
     // A volume as large as a float gets about a frustum at any scale.
-    const int k = scale_to(g, p.size, *rc::gen::inRange(-2, 120));
+    const int k = scale_to(g, p.size, int(integer(-2, 119)));
     g.volume = huge_volume(scale_placement(p, k));
   } else if (kind < 80) {
     // Planes with coefficients up to FLT_MAX, ordinary volumes: n.x overflows. A power of two
     // keeps the half-space exactly; another factor rounds every coefficient.
     for (Plane& pl : g.frustum.planes.planes) {
       if (coin(50)) {
-        scale_normal_to(pl, *rc::gen::inRange(116, 128));
+        scale_normal_to(pl, int(integer(116, 127)));
         continue;
       }
       const double big = std::max({std::abs(pl.n.x), std::abs(pl.n.y), std::abs(pl.n.z), std::abs(pl.d)});
@@ -219,7 +219,7 @@ GenCase huge_case() {
   } else {
     // A clip matrix whose entries reach FLT_MAX (every depth convention, reversed-Z, infinite far):
     // the Gribb-Hartmann row sums overflow float.
-    scale_to(g, p.size, *rc::gen::inRange(0, 100));
+    scale_to(g, p.size, int(integer(0, 99)));
     if (coin(50)) {
       scale_matrix_to(g, 127);
     } else {
@@ -250,7 +250,7 @@ GenCase subnormal_case() {
     // The scene carried to the bottom of the range: its size at 2^-140 .. 2^-112, where extents
     // and distances to the faces are subnormal.
     GenCase g = make(cam, p, around(p));
-    scale_to(g, p.size, *rc::gen::inRange(-140, -111));
+    scale_to(g, p.size, int(integer(-140, -112)));
     return g;
   }
   if (kind < 75) {
@@ -258,14 +258,14 @@ GenCase subnormal_case() {
     // product n_i x_i underflows wherever it is below 2^-126, which with these coefficients is
     // at every coordinate below 2 in magnitude, and at larger ones for the smaller coefficients.
     GenCase g = make(cam, p, around(p));
-    for (Plane& pl : g.frustum.planes.planes) scale_plane_to(pl, *rc::gen::inRange(-146, -126));
+    for (Plane& pl : g.frustum.planes.planes) scale_plane_to(pl, int(integer(-146, -127)));
     return g;
   }
   // A tiny frustum (size 2^-120 .. 2^-100) and volumes 1e-7 .. 1e-4 of it near its faces and
   // corners: subnormal extents at subnormal distances.
   const double s = p.size * rel_size(-7, -4);
   GenCase g = make(cam, p, coin(50) ? near_boundary(p, any_shape(), s) : near_corner(p, any_shape(), s));
-  scale_to(g, p.size, *rc::gen::inRange(-120, -99));
+  scale_to(g, p.size, int(integer(-120, -100)));
   return g;
 }
 

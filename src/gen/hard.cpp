@@ -71,7 +71,7 @@ GenCase ill_conditioned_case() {
                                     : near_corner(p, any_shape(), p.size * rel_size(-3, -1)));
   for (Plane& pl : g.frustum.planes.planes) {
     // Powers of two keep the half-space exactly; other factors round every coefficient.
-    const double k = coin(50) ? std::ldexp(1.0, *rc::gen::inRange(-60, 61)) : log_in(-18, 18);
+    const double k = coin(50) ? std::ldexp(1.0, int(integer(-60, 60))) : log_in(-18, 18);
     pl.n = glm::vec3(glm::dvec3(pl.n) * k);
     pl.d = float(double(pl.d) * k);
   }

@@ -25,7 +25,7 @@ struct IntegerFrustum {
   std::array<glm::vec3, 8> corner;  // index bits: 0 right, 1 top, 2 far (as frustum_corners)
 };
 
-int between(int lo, int hi) { return *rc::gen::inRange(lo, hi + 1); }  // lo .. hi inclusive
+int between(int lo, int hi) { return int(integer(lo, hi)); }  // lo .. hi inclusive
 
 // x moved by k ulps (k may be negative).
 float ulps(float x, int k) {
@@ -34,7 +34,7 @@ float ulps(float x, int k) {
   return x;
 }
 // Mostly 0, sometimes +-1 or +-2 ulps.
-int small_nudge() { return *rc::gen::element(0, 0, 0, 1, -1, 2, -2); }
+int small_nudge() { return one_of({0, 0, 0, 1, -1, 2, -2}); }
 
 // The plane through integer points p, q, r, oriented so that the corners' centroid (sum8 is 8
 // times it) is inside. In double: every value is an integer far below 2^24, so the float plane
@@ -78,7 +78,7 @@ IntegerFrustum integer_frustum() {
   out.planes[kFar] = through(4, 5, 6);
   // Unnormalised planes, some scaled by a power of two (the same half-space, still exact).
   for (Plane& p : out.planes.planes) {
-    const float s = *rc::gen::element(1.0f, 1.0f, 0.5f, 2.0f, 0.0625f, 1024.0f);
+    const float s = one_of({1.0f, 1.0f, 0.5f, 2.0f, 0.0625f, 1024.0f});
     p.n *= s;
     p.d *= s;
   }
@@ -115,7 +115,7 @@ glm::mat3 degree_rotation() {
   return glm::mat3_cast(glm::quat(glm::radians(angles)));
 }
 
-float small_extent() { return *rc::gen::element(0.0f, 0.25f, 0.5f, 1.0f, 2.0f, 3.0f, 40.0f); }
+float small_extent() { return one_of({0.0f, 0.25f, 0.5f, 1.0f, 2.0f, 3.0f, 40.0f}); }
 
 // A volume with a vertex (box), an extreme point (sphere) or its only point at p, extending in
 // random directions, then nudged by up to two ulps per coordinate.
@@ -148,7 +148,7 @@ Volume volume_touching(glm::vec3 p) {
     }
     glm::vec3 c = p;
     for (int i = 0; i < 3; ++i) {
-      o.half[i] = *rc::gen::element(0.0f, 0.25f, 0.5f, 1.0f, 2.0f);
+      o.half[i] = one_of({0.0f, 0.25f, 0.5f, 1.0f, 2.0f});
       c += (coin(50) ? 1.0f : -1.0f) * o.half[i] * o.axes[i];
     }
     for (int k = 0; k < 3; ++k) c[k] = ulps(c[k], small_nudge());
@@ -157,7 +157,7 @@ Volume volume_touching(glm::vec3 p) {
   }
   if (kind == 2) {  // a sphere touching p from one axis direction
     Sphere s;
-    s.radius = *rc::gen::element(0.0f, 0.25f, 0.5f, 1.0f, 3.0f);
+    s.radius = one_of({0.0f, 0.25f, 0.5f, 1.0f, 3.0f});
     glm::vec3 c = p;
     c[pick(3)] += (coin(50) ? 1.0f : -1.0f) * s.radius;
     for (int k = 0; k < 3; ++k) c[k] = ulps(c[k], small_nudge());
@@ -201,7 +201,7 @@ GenCase exact_containment_case() {
   const glm::vec3 centre = sum / 8.0f;  // dyadic, exact
   switch (pick(5)) {
     case 0: {  // the frustum's bounding box, grown or shrunk by a few units or ulps
-      const float grow = *rc::gen::element(0.0f, 0.0f, 1.0f, -0.5f, 10.0f);
+      const float grow = one_of({0.0f, 0.0f, 1.0f, -0.5f, 10.0f});
       Aabb b{lo - grow, hi + grow};
       for (int k = 0; k < 3; ++k) {
         b.min[k] = ulps(b.min[k], small_nudge());
@@ -211,13 +211,13 @@ GenCase exact_containment_case() {
       return integer_case(f, b);
     }
     case 1: {  // a small box about the centroid
-      const float h = *rc::gen::element(0.0f, 0.125f, 0.25f, 0.5f, 1.0f);
+      const float h = one_of({0.0f, 0.125f, 0.25f, 0.5f, 1.0f});
       return integer_case(f, Aabb{centre - h, centre + h});
     }
     case 2:  // a ball about the centroid, from a point to one containing the frustum
-      return integer_case(f, Sphere{centre, *rc::gen::element(0.0f, 0.25f, 1.0f, 4.0f, 100.0f)});
+      return integer_case(f, Sphere{centre, one_of({0.0f, 0.25f, 1.0f, 4.0f, 100.0f})});
     case 3: {  // a rotated box about the centroid
-      const float h = *rc::gen::element(0.25f, 1.0f, 4.0f, 30.0f);
+      const float h = one_of({0.25f, 1.0f, 4.0f, 30.0f});
       return integer_case(f, Obb{centre, coin(50) ? degree_rotation() : rotation(), glm::vec3(h, h * 0.5f, h * 2.0f)});
     }
     default: {  // a corner of the frustum itself, as a point box

@@ -14,7 +14,7 @@ ExactFrame exact_frame() {
   glm::mat3 r(0.0f);
   for (int i = 0; i < 3; ++i) r[i][perm[i]] = coin(50) ? 1.0f : -1.0f;
   e.rot = r;
-  e.shift = glm::vec3(float(*rc::gen::inRange(-64, 65)), float(*rc::gen::inRange(-64, 65)), float(*rc::gen::inRange(-64, 65)));
+  e.shift = glm::vec3(float(integer(-64, 64)), float(integer(-64, 64)), float(integer(-64, 64)));
   static const float kN[3] = {0.5f, 1.0f, 2.0f}, kRatio[4] = {2, 3, 5, 9};
   e.n = kN[pick(3)];
   e.f = e.n * kRatio[pick(4)];
@@ -45,7 +45,7 @@ Aabb world_box(const ExactFrame& e, glm::vec3 lo, glm::vec3 hi) {
 // A dyadic value in [lo, hi] with at most 4 fractional bits.
 float dyadic(float lo, float hi) {
   const int steps = int((hi - lo) * 16.0f);
-  return lo + float(*rc::gen::inRange(0, steps + 1)) / 16.0f;
+  return lo + float(integer(0, steps)) / 16.0f;
 }
 
 GenCase touch_case(bool nudge, const std::function<CaseFrustum(const ExactFrame&)>& frustum) {

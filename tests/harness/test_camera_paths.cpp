@@ -56,7 +56,7 @@ TEST(CameraPaths, AreDeterministicAndTheirCasesArePathCases) {
     const gen::PathIndex at = gen::path_index(index);
     EXPECT_EQ(gen::path_case_index(at), index);
     const gen::CameraPath p = gen::draw_path(4, at.path);
-    const gen::GenCase c = gen::draw(Distribution::camera_path, 4, index).value();
+    const gen::GenCase c = gen::draw_case(Distribution::camera_path, 4, index);
     EXPECT_EQ(format_frustum(c.frustum), format_frustum(p.frames[at.frame])) << index;
     EXPECT_EQ(format_volume(c.volume), format_volume(p.objects[at.object])) << index;
   }
@@ -220,10 +220,32 @@ TEST(CameraPaths, AStateLeakingBetweenVolumesOfAFrameIsRefutedAndRecordedWithIts
     ++recorded;
   }
   EXPECT_GT(recorded, 0);
-  // Off camera paths each case is a frame of one volume: nothing leaks, nothing is found.
-  VerifyOptions elsewhere = path_run(3000);
-  elsewhere.distributions = {Distribution::near_boundary, Distribution::corner};
-  EXPECT_FALSE(run_verify(elsewhere, {m}).claim_broken());
+  std::filesystem::remove_all(dir);
+}
+
+// The framed families' frames (gen::kFrameCases volumes about one camera) are classified in order
+// too: the same leak is found there and recorded with its frame, which replays; a family of one
+// case per frustum (contact) has no earlier volume to leak from.
+TEST(CameraPaths, AStateLeakingBetweenVolumesOfAFamilysFrameIsRecordedWithItsFrame) {
+  const auto dir = temp_dir("leak-framed");
+  VerifyOptions o = path_run(3000);
+  o.distributions = {Distribution::near_boundary, Distribution::corner};
+  o.corpus = dir;
+  const Method m = mutants::find("mask-leak");
+  const VerifyResult r = run_verify(o, {m});
+  EXPECT_TRUE(r.claim_broken());
+  int framed = 0;
+  for (const CorpusEntry& e : load_corpus(dir)) {
+    if (!e.c.extra.at("violates_claim").get<bool>() || !e.path) continue;
+    EXPECT_EQ(e.path->frames.size(), 1u) << e.file;
+    EXPECT_LE(e.path->objects.size(), gen::kFrameCases) << e.file;
+    EXPECT_TRUE(replay(e, {m}).reproduces) << e.file;
+    ++framed;
+  }
+  EXPECT_GT(framed, 0);
+  VerifyOptions single = path_run(3000);
+  single.distributions = {Distribution::contact};
+  EXPECT_FALSE(run_verify(single, {m}).claim_broken());
   std::filesystem::remove_all(dir);
 }
 

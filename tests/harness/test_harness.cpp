@@ -9,6 +9,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <thread>
+#include <vector>
 
 using namespace cullproof;
 using V = Visibility;
@@ -123,22 +126,72 @@ TEST(Generators, SameSeedSameCasesOtherSeedOtherCases) {
   for (gen::Distribution d : gen::parse_distributions("all")) {
     for (std::uint64_t i = 0; i < 20; ++i) {
       Case a, b, c;
-      a.frustum = gen::draw(d, 7, i).value().frustum;
-      a.volume = gen::draw(d, 7, i).value().volume;
-      b.frustum = gen::draw(d, 7, i).value().frustum;
-      b.volume = gen::draw(d, 7, i).value().volume;
-      c.frustum = gen::draw(d, 8, i).value().frustum;
-      c.volume = gen::draw(d, 8, i).value().volume;
+      a.frustum = gen::draw_case(d, 7, i).frustum;
+      a.volume = gen::draw_case(d, 7, i).volume;
+      b.frustum = gen::draw_case(d, 7, i).frustum;
+      b.volume = gen::draw_case(d, 7, i).volume;
+      c.frustum = gen::draw_case(d, 8, i).frustum;
+      c.volume = gen::draw_case(d, 8, i).volume;
       EXPECT_EQ(format_case(a), format_case(b)) << gen::to_string(d) << " " << i;
       EXPECT_NE(format_case(a), format_case(c)) << gen::to_string(d) << " " << i;
     }
   }
 }
 
+// The Shrinkable the campaign shrinks from is rooted at the case it judged, bit for bit, and its
+// shrinks are valid cases of the same family.
+TEST(Generators, TheShrinkableOfACaseIsRootedAtTheCaseDrawn) {
+  for (gen::Distribution d : gen::parse_distributions("all")) {
+    for (std::uint64_t i : {0ull, 1ull, 517ull, 9000ull}) {
+      Case fast, root;
+      const gen::GenCase g = gen::draw_case(d, 3, i);
+      fast.frustum = g.frustum;
+      fast.volume = g.volume;
+      const rc::Shrinkable<gen::GenCase> s = gen::draw(d, 3, i);
+      root.frustum = s.value().frustum;
+      root.volume = s.value().volume;
+      EXPECT_EQ(format_case(fast), format_case(root)) << gen::to_string(d) << " " << i;
+      EXPECT_EQ(g.scene_size, s.value().scene_size) << gen::to_string(d) << " " << i;
+      int shrinks = 0;
+      for (auto seq = s.shrinks(); auto next = seq.next();) {
+        EXPECT_NO_THROW(validate(next->value().volume)) << gen::to_string(d) << " " << i;
+        if (++shrinks == 5) break;
+      }
+      EXPECT_GT(shrinks, 0) << gen::to_string(d) << " " << i;
+    }
+  }
+}
+
+// A case depends on its index alone: drawn on several threads in any order, the same cases.
+TEST(Generators, CasesDrawnOnThreadsInAnyOrderAreTheSame) {
+  constexpr std::uint64_t kCases = 600;
+  for (gen::Distribution d : {gen::Distribution::uniform, gen::Distribution::touch, gen::Distribution::huge}) {
+    std::vector<std::string> serial(kCases), threaded(kCases);
+    auto text = [d](std::uint64_t i) {
+      const gen::GenCase g = gen::draw_case(d, 11, i);
+      Case c;
+      c.frustum = g.frustum;
+      c.volume = g.volume;
+      return format_case(c);
+    };
+    for (std::uint64_t i = 0; i < kCases; ++i) serial[i] = text(i);
+    std::vector<std::thread> threads;
+    for (std::uint64_t t = 0; t < 3; ++t)
+      threads.emplace_back([&, t] {
+        for (std::uint64_t k = 0; k < kCases; ++k) {
+          const std::uint64_t i = kCases - 1 - k;  // backwards, interleaved
+          if (i % 3 == t) threaded[i] = text(i);
+        }
+      });
+    for (auto& th : threads) th.join();
+    EXPECT_EQ(serial, threaded) << gen::to_string(d);
+  }
+}
+
 TEST(Generators, EveryDistributionGivesValidCases) {
   for (gen::Distribution d : gen::parse_distributions("all"))
     for (std::uint64_t i = 0; i < 300; ++i) {
-      const gen::GenCase g = gen::draw(d, 1, i).value();
+      const gen::GenCase g = gen::draw_case(d, 1, i);
       EXPECT_NO_THROW(validate(g.volume)) << gen::to_string(d) << " " << i;
       EXPECT_NO_THROW(validate(g.frustum.planes)) << gen::to_string(d) << " " << i;
       EXPECT_GT(g.scene_size, 0.0);
@@ -149,7 +202,7 @@ TEST(Generators, EveryDistributionGivesValidCases) {
 TEST(Generators, TouchCasesAreNeverOutside) {
   int intersecting = 0, inside = 0;
   for (std::uint64_t i = 0; i < 400; ++i) {
-    const gen::GenCase g = gen::draw(gen::Distribution::touch, 3, i).value();
+    const gen::GenCase g = gen::draw_case(gen::Distribution::touch, 3, i);
     const V t = oracle::truth(g.frustum, g.volume);
     EXPECT_NE(t, V::outside) << "touch case " << i;
     intersecting += t == V::intersecting;
@@ -163,7 +216,7 @@ TEST(Generators, TouchCasesAreNeverOutside) {
 TEST(Generators, RodsHaveNoCornerInside) {
   int crossing = 0;
   for (std::uint64_t i = 0; i < 300; ++i) {
-    const gen::GenCase g = gen::draw(gen::Distribution::rod, 5, i).value();
+    const gen::GenCase g = gen::draw_case(gen::Distribution::rod, 5, i);
     const Obb b = std::holds_alternative<Obb>(g.volume) ? std::get<Obb>(g.volume) : to_obb(std::get<Aabb>(g.volume));
     int corners_inside = 0;
     for (int k = 0; k < 8; ++k) {

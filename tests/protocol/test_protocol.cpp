@@ -58,7 +58,7 @@ struct FragileCase {
 FragileCase first_fragile(gen::Distribution d, std::uint64_t seed, std::uint64_t cases) {
   FragileCase f;
   for (std::uint64_t i = 0; i < cases; ++i) {
-    const Volume v = gen::draw(d, seed, i).value().volume;
+    const Volume v = gen::draw_case(d, seed, i).volume;
     if (fragile_on(v)) {
       f.index = i;
       return f;

@@ -1,9 +1,12 @@
 // Case generators shared by the property tests and the verification run (`cullproof verify`).
 //
-// Every generator is a RapidCheck rc::Gen built from valid constructions, aimed at the cases it
-// names instead of filtering: a property gets shrinking for free, and the campaign draws case i
-// of a distribution from rc::Random(seed, distribution, i), so the same seed gives the same
-// cases, and it shrinks a mismatch by walking the same Shrinkable tree.
+// Every family is built from valid constructions, aimed at the cases it names instead of
+// filtering, and draws each of its choices as one integer in a range. A property test takes it as
+// a RapidCheck rc::Gen (shrinking for free). The campaign draws case i of a distribution directly
+// from a counter-based stream keyed by (seed, distribution, i) (draw_case: no RapidCheck, no
+// allocation per value, any index on any thread), so the same seed gives the same cases; to
+// shrink a mismatch it replays that case's values inside RapidCheck (draw), whose root is the
+// same case.
 #pragma once
 
 #include "cullproof/core/frustum_build.hpp"
@@ -103,8 +106,24 @@ rc::Gen<GenCase> exact_degenerate();
 /// exact family, each source equally likely. rc::Arbitrary<GenCase> (cullproof/gen/arbitrary.hpp).
 rc::Gen<GenCase> any_case();
 
-/// The campaign's deterministic draw: case `index` of distribution `d` for `seed`, as a
-/// Shrinkable (value() is the case; shrinks() its simpler versions).
+/// The generic-camera families (uniform, near-boundary, corner, enclosing, tiny-huge, degenerate)
+/// come in frames, as an engine culls: cases [kFrameCases f, kFrameCases (f + 1)) share frame f's
+/// camera, and each draws its own volume about that camera's frustum. A case is drawn exactly as
+/// before (a generic camera, then a volume of the family about it); only cases of one frame share
+/// the camera. Every other family has one case per frustum.
+constexpr std::size_t kFrameCases = 16;
+/// kFrameCases for a framed family, 1 for the others (cases_per_frame(camera_path) is 1: its
+/// frames are its paths', path_index).
+std::size_t cases_per_frame(Distribution d);
+
+/// The campaign's deterministic draw: case `index` of distribution `d` for `seed`. Thread-safe;
+/// the same arguments give the same case on every run and thread.
+GenCase draw_case(Distribution d, std::uint64_t seed, std::uint64_t index);
+/// Cases first .. first + count - 1, as draw_case draws them (a frame's camera drawn once).
+void draw_cases(Distribution d, std::uint64_t seed, std::uint64_t first, std::size_t count, GenCase* out);
+/// The same case as a Shrinkable for shrinking (value() is draw_case's case; shrinks() its
+/// simpler versions, RapidCheck's shrinks of the values it was drawn from). On the thread that
+/// uses it only (RapidCheck's generation context is the process's).
 rc::Shrinkable<GenCase> draw(Distribution d, std::uint64_t seed, std::uint64_t index);
 
 /// A frame for timing: one frustum and volumes of the distribution against it.
@@ -116,10 +135,10 @@ struct Frame {
   bool continues = false;
 };
 /// Frame `index` of distribution `d` for `seed`: up to `size` volumes whose kind is in `kinds`
-/// (VolumeKind bits), fewer when the distribution rarely makes that kind. Generic distributions
-/// place every volume around one camera's frustum, as in an engine's frame; the hard families,
-/// which build frustum and volume together, give the first case's frustum and the volumes of the
-/// cases that follow; camera-path frames are the frames of one path in order (index % kPathFrames
+/// (VolumeKind bits), fewer when the distribution rarely makes that kind. The generic-camera
+/// families place every volume around one camera's frustum, as in an engine's frame; the others
+/// (the hard families and `contact`), which build frustum and volume together, give the first
+/// case's frustum and the volumes of the cases that follow; camera-path frames are the frames of one path in order (index % kPathFrames
 /// of path index / kPathFrames), its objects of the kinds asked for. Deterministic; a stream
 /// apart from draw()'s cases.
 Frame draw_frame(Distribution d, std::uint64_t seed, std::uint64_t index, std::size_t size, unsigned kinds);
