@@ -11,6 +11,9 @@
 // BM_OracleExactRoute: the exact route only (filter off; no distance, no witness JSON).
 // BM_OracleFull: classify() with witness JSON and exact distance (what `cullproof classify` runs).
 // BM_OracleIndependent: the independent cross-check method.
+// BM_OracleOutsideDistance: classify() with the exact distance, no witness, on the outside cases
+//   alone (second argument: 0 the exact QP alone, 1 the closest pair found in double first, as
+//   by default); counter closest_pairs_per_call: the pairs proven without a QP.
 // BM_VerdictDistance: distance_to_verdict (what the judge measures for a wrong verdict), per
 //   verdict given (second argument: 0 outside, 1 intersecting, 2 inside), on the OBBs, and on
 //   balls of the OBB's centre and half-diagonal (third argument 1); a case whose truth is the
@@ -120,6 +123,25 @@ void BM_OracleIndependent(benchmark::State& state) {
   run(state, [](const BenchCase& c) { return oracle::classify_independent(c.frustum, c.volume); });
 }
 
+void BM_OracleOutsideDistance(benchmark::State& state) {
+  std::vector<BenchCase> outside;
+  for (const BenchCase& c : cases(state.range(0) != 0))
+    if (oracle::truth(c.frustum, c.volume) == Visibility::outside) outside.push_back(c);
+  oracle::Options o;
+  o.witness = false;
+  o.closest_in_double = state.range(1) != 0;
+  oracle::reset_stats();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const BenchCase& c = outside[i++ % outside.size()];
+    benchmark::DoNotOptimize(oracle::classify(c.frustum, c.volume, o).distance);
+  }
+  const oracle::Stats s = oracle::stats();
+  state.counters["closest_pairs_per_call"] = double(s.closest_pairs) / double(state.iterations());
+  state.counters["cases"] = double(outside.size());
+  state.SetLabel(std::string(state.range(0) ? "matrix" : "planes") + (o.closest_in_double ? ", double first" : ", QP alone"));
+}
+
 void BM_VerdictDistance(benchmark::State& state) {
   const auto verdict = static_cast<Visibility>(state.range(1));
   const bool ball = state.range(2) != 0;
@@ -136,6 +158,7 @@ BENCHMARK(BM_OracleFiltered)->Arg(0)->Arg(1)->Iterations(4096 * 20)->Unit(benchm
 BENCHMARK(BM_OracleExactRoute)->Arg(0)->Arg(1)->Iterations(4096 * 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OracleFull)->Arg(0)->Arg(1)->Iterations(4096 * 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_OracleIndependent)->Arg(0)->Arg(1)->Iterations(4096)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_OracleOutsideDistance)->ArgsProduct({{0, 1}, {0, 1}})->Iterations(4096)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_VerdictDistance)
     ->ArgsProduct({{0, 1}, {0, 1, 2}, {0, 1}})
     ->Iterations(4096)

@@ -314,7 +314,7 @@ class DistributionRun {
                                           ErrorClass::correct);
         }
         if (!erred) continue;
-        o.distance = oracle::classify(cases_[i].frustum, cases_[i].volume, oracle::Options{true, true, false}).distance;
+        o.distance = oracle::distance(cases_[i].frustum, cases_[i].volume, o.truth);
         o.scale = gen::case_scale(cases_[i].frustum, cases_[i].volume);
         for (std::size_t k = 0; k < ms_.size(); ++k) {
           const std::int8_t v = o.verdict[k];

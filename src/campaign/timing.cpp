@@ -38,7 +38,7 @@ unsigned classify_frame(PreparedFrustum& p, const KindedFrame& f, std::vector<An
   return (answers[0] ? unsigned(*answers[0]) : 3u) + (answers[f.size() - 1] ? unsigned(*answers[f.size() - 1]) : 3u);
 }
 
-constexpr double kMinTimingSeconds = 0.02;
+constexpr double kMinTimingSeconds = 0.005;
 
 // A stateful method runs as it would in an engine: frame after frame, each prepared and then
 // classified (reset() where a frame does not continue the previous one's path), the two phases
@@ -76,7 +76,7 @@ Timing time_stateful(const Method& m, const std::vector<KindedFrame>& frames) {
 }
 
 // Times prepare once per frame and classify_batch over each frame's volumes, in passes over the
-// frames until each measure has run for at least 20 ms. Frames the method does not apply to
+// frames until each measure has run for at least 5 ms. Frames the method does not apply to
 // are left out.
 Timing time_classify(const Method& m, const std::vector<KindedFrame>& frames) {
   constexpr double kMinSeconds = kMinTimingSeconds;

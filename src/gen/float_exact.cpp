@@ -1,133 +1,173 @@
 // Float-exactness of a case (see gen::float_exact in cullproof/gen/generators.hpp).
 //
-// Every quantity is a sum of terms that are floats or products of two floats, so it is a dyadic
-// rational m * 2^e with e >= -298 (the product of two smallest subnormals): it is held exactly as
-// an integer multiple of 2^kLowest in a Boost.Multiprecision integer, and "is a float" is decided
-// on that integer (at most 24 significant bits, lowest bit at or above 2^-149, below 2^128).
+// Every quantity is a sum of terms that are floats or products of two floats. A product of two
+// floats is exact in double (48 significant bits, exponents from -298 to 256), and a sum of
+// doubles is held exactly as a nonoverlapping expansion (Shewchuk's Two-Sum and Grow-Expansion),
+// so every question is answered in double arithmetic without rounding: a sum is a float when the
+// float nearest its estimate, subtracted from it exactly, leaves zero.
+//
+// Source: J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
+// Predicates", Discrete & Computational Geometry 18, 1997, §2 (Two-Sum, Grow-Expansion).
 #include "cullproof/gen/generators.hpp"
-
-#include <boost/multiprecision/cpp_int.hpp>
 
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <variant>
-#include <vector>
 
 namespace cullproof::gen {
 
 namespace {
 
-using Int = boost::multiprecision::cpp_int;
+// An exact sum of up to kMax doubles: nonoverlapping components, zeros dropped (Grow-Expansion
+// never needs more components than terms added).
+class Sum {
+ public:
+  static constexpr int kMax = 8;
+  Sum() = default;
+  Sum(std::initializer_list<double> terms) {
+    for (double t : terms) add(t);
+  }
+  void add(double b) {
+    double q = b;
+    int k = 0;
+    for (int i = 0; i < n_; ++i) {
+      const double s = q + c_[i];
+      const double bv = s - q;
+      const double err = (q - (s - bv)) + (c_[i] - bv);  // Two-Sum: q + c_i = s + err exactly
+      if (err != 0.0) c_[k++] = err;
+      q = s;
+    }
+    if (q != 0.0) c_[k++] = q;
+    n_ = k;
+  }
+  void add(const Sum& o) {
+    for (int i = 0; i < o.n_; ++i) add(o.c_[i]);
+  }
+  Sum negated() const {
+    Sum r = *this;
+    for (int i = 0; i < r.n_; ++i) r.c_[i] = -r.c_[i];
+    return r;
+  }
+  bool is_zero() const { return n_ == 0; }
+  // Whether the exact value is a finite float: the float nearest the estimate (the components
+  // summed, smallest first, within a few units in the last place of double of the value) is the
+  // value itself when the value is a float.
+  bool is_float() const {
+    if (n_ == 0) return true;
+    double estimate = 0.0;
+    for (int i = 0; i < n_; ++i) estimate += c_[i];
+    const float f = static_cast<float>(estimate);
+    if (!std::isfinite(f)) return false;
+    Sum rest = *this;
+    rest.add(-static_cast<double>(f));
+    return rest.is_zero();
+  }
+  // The value, when it is a float (is_float()).
+  float as_float() const {
+    double estimate = 0.0;
+    for (int i = 0; i < n_; ++i) estimate += c_[i];
+    return static_cast<float>(estimate);
+  }
 
-constexpr int kLowest = -400;  // below every exponent a float product can have
+ private:
+  std::array<double, kMax> c_{};
+  int n_ = 0;
+};
 
-// The exact value of a double that is a float or a product of two floats, as an Int of 2^kLowest.
-Int exact(double x) {
-  if (x == 0.0) return Int(0);
-  int e = 0;
-  const double f = std::frexp(x, &e);                        // x = f * 2^e, 0.5 <= |f| < 1
-  const auto m = static_cast<std::int64_t>(std::ldexp(f, 53));  // x = m * 2^(e - 53), exactly
-  Int v = m;
-  v <<= unsigned(e - 53 - kLowest);
-  return v;
-}
+// The product of two floats, exact in double.
+double product(float a, float b) { return double(a) * double(b); }
 
-// Whether the value v * 2^kLowest is exactly a finite float.
-bool is_float(const Int& v) {
-  if (v == 0) return true;
-  const Int a = abs(v);
-  const unsigned low = boost::multiprecision::lsb(a);
-  const unsigned high = boost::multiprecision::msb(a);
-  if (high - low >= 24) return false;                     // more than 24 significant bits
-  const int low_exp = int(low) + kLowest, high_exp = int(high) + kLowest;
-  return low_exp >= -149 && high_exp <= 127;              // not below the subnormals, not infinite
-}
+// Whether a double (exactly a float or a product of two) is a finite float.
+bool is_float(double x) { return double(static_cast<float>(x)) == x; }
 
 // Whether every sum of two or more of the terms (each already a float) is a float: every partial
 // sum of any evaluation order is one of these.
-bool sums_are_floats(const std::vector<Int>& terms) {
-  const std::size_t n = terms.size();
-  for (std::uint32_t mask = 1; mask < (1u << n); ++mask) {
+template <std::size_t N>
+bool sums_are_floats(const std::array<double, N>& terms) {
+  for (std::uint32_t mask = 1; mask < (1u << N); ++mask) {
     if ((mask & (mask - 1)) == 0) continue;  // a single term
-    Int s = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (mask & (1u << i)) s += terms[i];
-    if (!is_float(s)) return false;
+    Sum s;
+    for (std::size_t i = 0; i < N; ++i)
+      if (mask & (1u << i)) s.add(terms[i]);
+    if (!s.is_float()) return false;
   }
   return true;
 }
 
-// The terms of n.x + d (+ extra), or false when a product n_i x_i is not a float.
-bool plane_terms(const Plane& p, const glm::vec3& x, std::vector<Int>& out) {
-  out.clear();
+// The terms of n.x + d, or false when a product n_i x_i is not a float.
+bool plane_terms(const Plane& p, const glm::vec3& x, std::array<double, 4>& out) {
   for (int i = 0; i < 3; ++i) {
-    out.push_back(exact(double(p.n[i]) * double(x[i])));
-    if (!is_float(out.back())) return false;
+    out[std::size_t(i)] = product(p.n[i], x[i]);
+    if (!is_float(out[std::size_t(i)])) return false;
   }
-  out.push_back(exact(double(p.d)));
+  out[3] = double(p.d);
   return true;
 }
 
 bool plane_exact_at(const Plane& p, const glm::vec3& x) {
-  std::vector<Int> t;
+  std::array<double, 4> t;
   return plane_terms(p, x, t) && sums_are_floats(t);
 }
 
 bool unit_normal(const Plane& p) {
-  Int s = 0;
-  for (int i = 0; i < 3; ++i) s += exact(double(p.n[i]) * double(p.n[i]));
-  return s == exact(1.0);
+  Sum s{product(p.n[0], p.n[0]), product(p.n[1], p.n[1]), product(p.n[2], p.n[2]), -1.0};
+  return s.is_zero();
 }
 
 // n . u for a plane normal and an OBB axis, if it rounds nothing.
-bool exact_dot(const glm::vec3& n, const glm::vec3& u, Int& out) {
-  std::vector<Int> t;
+bool exact_dot(const glm::vec3& n, const glm::vec3& u, float& out) {
+  std::array<double, 3> t;
   for (int i = 0; i < 3; ++i) {
-    t.push_back(exact(double(n[i]) * double(u[i])));
-    if (!is_float(t.back())) return false;
+    t[std::size_t(i)] = product(n[i], u[i]);
+    if (!is_float(t[std::size_t(i)])) return false;
   }
   if (!sums_are_floats(t)) return false;
-  out = t[0] + t[1] + t[2];
+  out = Sum{t[0], t[1], t[2]}.as_float();
   return true;
 }
 
 bool obb_exact(const std::array<Plane, kPlaneCount>& planes, const Obb& b) {
   // The corners c + sum_i (+-h_i) u_i, coordinate by coordinate.
-  std::array<std::array<Int, 3>, 3> hu{};  // hu[i][k] = h_i * u_ik
+  std::array<std::array<double, 3>, 3> hu{};  // hu[i][k] = h_i * u_ik
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k) {
-      hu[i][k] = exact(double(b.half[i]) * double(b.axes[i][k]));
-      if (!is_float(hu[i][k])) return false;
+      hu[std::size_t(i)][std::size_t(k)] = product(b.half[i], b.axes[i][k]);
+      if (!is_float(hu[std::size_t(i)][std::size_t(k)])) return false;
     }
   for (int corner = 0; corner < 8; ++corner) {
     glm::vec3 x;
     for (int k = 0; k < 3; ++k) {
-      std::vector<Int> t = {exact(double(b.center[k]))};
-      for (int i = 0; i < 3; ++i) t.push_back((corner >> i & 1) ? Int(-hu[i][k]) : hu[i][k]);
+      std::array<double, 4> t{double(b.center[k]), 0, 0, 0};
+      for (int i = 0; i < 3; ++i) {
+        const double h = hu[std::size_t(i)][std::size_t(k)];
+        t[std::size_t(i + 1)] = (corner >> i & 1) ? -h : h;
+      }
       if (!sums_are_floats(t)) return false;
-      Int s = t[0] + t[1] + t[2] + t[3];
-      // s is a float: recover it (its value is exact in double).
-      x[k] = float(std::ldexp(s.convert_to<double>(), kLowest));
+      x[k] = Sum{t[0], t[1], t[2], t[3]}.as_float();
     }
     for (const Plane& p : planes)
       if (!plane_exact_at(p, x)) return false;
   }
   // The projected form: s = n.c + d against r = sum_i h_i |n . u_i|.
   for (const Plane& p : planes) {
-    std::vector<Int> centre;
+    std::array<double, 4> centre;
     if (!plane_terms(p, b.center, centre) || !sums_are_floats(centre)) return false;
-    std::vector<Int> r;
+    std::array<double, 3> r;
     for (int i = 0; i < 3; ++i) {
-      Int d;
+      float d;
       if (!exact_dot(p.n, b.axes[i], d)) return false;
-      const double dn = std::abs(std::ldexp(d.convert_to<double>(), kLowest));
-      r.push_back(exact(double(b.half[i]) * dn));
-      if (!is_float(r.back())) return false;
+      r[std::size_t(i)] = product(b.half[i], std::abs(d));
+      if (!is_float(r[std::size_t(i)])) return false;
     }
     if (!sums_are_floats(r)) return false;
-    const Int s = centre[0] + centre[1] + centre[2] + centre[3], rr = r[0] + r[1] + r[2];
-    if (!is_float(s - rr) || !is_float(s + rr)) return false;
+    const Sum s{centre[0], centre[1], centre[2], centre[3]};
+    const Sum rr{r[0], r[1], r[2]};
+    Sum minus = s, plus = s;
+    minus.add(rr.negated());
+    plus.add(rr);
+    if (!minus.is_float() || !plus.is_float()) return false;
   }
   return true;
 }
@@ -139,12 +179,12 @@ bool extraction_exact(const CaseFrustum& f) {
   if (!f.matrix) return true;
   const glm::mat4& m = *f.matrix;
   for (int c = 0; c < 4; ++c) {  // column-major: m[c][r] is row r of column c
-    const Int r4 = exact(double(m[c][3]));
+    const double r4 = m[c][3];
     for (int r = 0; r < 3; ++r) {
-      const Int rk = exact(double(m[c][r]));
-      if (!is_float(r4 - rk)) return false;
+      const double rk = m[c][r];
+      if (!Sum{r4, -rk}.is_float()) return false;
       const bool plus_used = r < 2 || f.depth.range == DepthRange::negative_one_to_one;
-      if (plus_used && !is_float(r4 + rk)) return false;
+      if (plus_used && !Sum{r4, rk}.is_float()) return false;
     }
   }
   return true;
@@ -166,10 +206,10 @@ bool float_exact(const CaseFrustum& f, const Volume& v) {
           for (const Plane& p : planes) {
             if (p.n == glm::vec3(0.0f)) continue;  // contains all space or nothing: nothing rounds
             if (!unit_normal(p)) return false;
-            std::vector<Int> t;
+            std::array<double, 4> t;
             if (!plane_terms(p, x.center, t)) return false;
-            t.push_back(exact(double(x.radius)));
-            if (!sums_are_floats(t)) return false;
+            const std::array<double, 5> with_radius{t[0], t[1], t[2], t[3], double(x.radius)};
+            if (!sums_are_floats(with_radius)) return false;
           }
           return true;
         } else if constexpr (std::is_same_v<T, Aabb>) {

@@ -31,7 +31,7 @@ std::array<Q, N> q_array(const std::array<double, N>& a) {
 // The case's exact numbers, converted once per call and only when a step needs them.
 class ExactCase {
  public:
-  ExactCase(const CaseFrustum& f, const Volume& v) : qc(f, v), f_(f), v_(v) {}
+  ExactCase(const CaseFrustum& f, const Volume& v, const Options& o) : qc(f, v), f_(f), v_(v) { qc.guess = o.closest_in_double; }
   const Planes& planes() {
     if (!planes_) planes_ = exact_planes_et(f_);
     return *planes_;
@@ -133,7 +133,7 @@ Result classify(const CaseFrustum& f, const Volume& v, const Options& o) {
   detail::validate_case(f, v);
   Result r;
   r.distance = kNaN;
-  ExactCase ec(f, v);
+  ExactCase ec(f, v, o);
   const Decision dec = decide(f, v, o, ec, r);
   r.truth = dec.truth;
   check(v, o, dec, ec, r);
@@ -148,6 +148,16 @@ Visibility truth(const CaseFrustum& f, const Volume& v) {
   o.distance = false;
   o.witness = false;
   return classify(f, v, o).truth;
+}
+
+double distance(const CaseFrustum& f, const Volume& v, Visibility truth) {
+  detail::validate_case(f, v);
+  Result r;
+  r.truth = truth;
+  r.filtered = true;  // no exact route ran: a ball's closest point is still to be found
+  ExactCase ec(f, v, Options{});
+  measure(v, ec, r);
+  return r.distance;
 }
 
 std::string_view to_string(DistanceKind k) noexcept {
@@ -215,6 +225,7 @@ Stats stats() noexcept {
   s.filtered = g_filtered.load(std::memory_order_relaxed);
   s.fallbacks = g_fallbacks.load(std::memory_order_relaxed);
   s.exact_lp = g_exact_lp.load(std::memory_order_relaxed);
+  s.closest_pairs = g_closest_pairs.load(std::memory_order_relaxed);
   return s;
 }
 
@@ -223,6 +234,7 @@ void reset_stats() noexcept {
   g_filtered.store(0);
   g_fallbacks.store(0);
   g_exact_lp.store(0);
+  g_closest_pairs.store(0);
 }
 
 }  // namespace cullproof::oracle

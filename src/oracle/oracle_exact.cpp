@@ -14,7 +14,7 @@
 
 namespace cullproof::oracle::internal {
 
-std::atomic<std::uint64_t> g_exact_lp{0};
+std::atomic<std::uint64_t> g_exact_lp{0}, g_closest_pairs{0};
 
 namespace {
 
@@ -98,6 +98,22 @@ std::optional<std::array<Q, 6>> kkt_multipliers(const std::array<detail::Coeffs<
 }  // namespace
 
 Closest closest_point_of_frustum(QCase& qc, const Planes& P, const std::array<ET, 3>& c) {
+  const std::array<Q, 3> cq{q_of(c[0]), q_of(c[1]), q_of(c[2])};
+  const auto& planes = qc.planes();
+  // The pair found in double, when proven (the same conditions as the checks below).
+  if (qc.guess) {
+    detail::BoxT<ET> b;
+    b.c = c;
+    for (auto& ei : b.e) ei = {ET(0), ET(0), ET(0)};
+    if (auto pair = proven_closest_pair(P, b, /*want_point=*/true)) {
+      g_closest_pairs.fetch_add(1, std::memory_order_relaxed);
+      Closest out;
+      out.y = pair->y;
+      out.dist2 = pair->dist2;
+      out.lambda = pair->lambda;
+      return out;
+    }
+  }
   Program qp(CGAL::LARGER, false, 0, false, 0);
   std::array<int, 6> row_plane{};
   int rows = 0;
@@ -131,12 +147,10 @@ Closest closest_point_of_frustum(QCase& qc, const Planes& P, const std::array<ET
   for (auto it = s.variable_values_begin(); it != s.variable_values_end() && i < 3; ++it, ++i) y[i] = q_of(*it);
   out.y = y;
   out.dist2 = q_of(s.objective_value());
-  const auto& planes = qc.planes();
   for (int j = 0; j < 6; ++j) {
     const auto& p = planes[j];
     if (p[0] * y[0] + p[1] * y[1] + p[2] * y[2] + p[3] < 0) self_check_failed("closest-point QP: y outside F");
   }
-  const std::array<Q, 3> cq{q_of(c[0]), q_of(c[1]), q_of(c[2])};
   const Q dx = y[0] - cq[0], dy = y[1] - cq[1], dz = y[2] - cq[2];
   if (dx * dx + dy * dy + dz * dz != out.dist2) self_check_failed("closest-point QP: value is not |y - c|^2");
   if (!CGAL::is_zero(out.dist2)) {
@@ -211,10 +225,55 @@ std::optional<std::array<Q, 6>> kkt_multipliers(const std::array<detail::Coeffs<
 
 }  // namespace
 
-// Euclidean distance between a box and F by the exact QP
-//   min |c + E t - y|^2  over t ∈ [-1,1]^3, y ∈ F.
-// Returns the exact squared distance (nullopt when F is empty); checks the optimal pair.
+namespace {
+
+// The squared distance of the pair (x = c + Σ t_i e_i, y) when the pair is proven the closest of
+// B and F, else the check that fails. λ are KKT multipliers at y (y - x = Σ λ_j n_j over planes
+// through y, λ >= 0): then P = Σ λ_j plane_j is >= 0 on F with P(y) = 0, and if also
+// max_B P = P(x) = -|y - x|^2, every b ∈ B, q ∈ F has (y - x)·(q - b) >= |y - x|^2, so
+// |q - b| >= |y - x|.
+struct PairCheck {
+  std::optional<Q> value;
+  const char* problem = nullptr;
+};
+
+PairCheck check_pair(QCase& qc, const std::array<Q, 3>& t, const std::array<Q, 3>& y) {
+  const auto& planes = qc.planes();
+  const auto& bq = qc.box();
+  std::array<Q, 3> x;
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (t[k] > Q(1) || t[k] < Q(-1)) return {std::nullopt, "t outside [-1,1]"};
+    x[k] = bq.c[k] + t[0] * bq.e[0][k] + t[1] * bq.e[1][k] + t[2] * bq.e[2][k];
+  }
+  for (const auto& p : planes)
+    if (p[0] * y[0] + p[1] * y[1] + p[2] * y[2] + p[3] < 0) return {std::nullopt, "y outside F"};
+  const Q dx = x[0] - y[0], dy = x[1] - y[1], dz = x[2] - y[2];
+  const Q value = dx * dx + dy * dy + dz * dz;
+  if (CGAL::is_zero(value)) return {std::nullopt, "zero distance for an outside volume"};
+  const auto lambda = kkt_multipliers(planes, y, x);
+  if (!lambda) return {std::nullopt, "no KKT multipliers prove optimality"};
+  detail::Coeffs<Q> S{Q(0), Q(0), Q(0), Q(0)};
+  for (std::size_t j = 0; j < 6; ++j)
+    for (std::size_t k = 0; k < 4; ++k) S[k] += (*lambda)[j] * planes[j][k];
+  Q max_b = S[0] * bq.c[0] + S[1] * bq.c[1] + S[2] * bq.c[2] + S[3];
+  for (std::size_t e = 0; e < 3; ++e) max_b += CGAL::abs(S[0] * bq.e[e][0] + S[1] * bq.e[e][1] + S[2] * bq.e[e][2]);
+  if (max_b != -value) return {std::nullopt, "the closest pair is not optimal"};
+  return {value, nullptr};
+}
+
+}  // namespace
+
+// Euclidean distance between a box and F: the pair found in double when it is proven the closest
+// (proven_closest_pair), else the exact QP
+//   min |c + E t - y|^2  over t ∈ [-1,1]^3, y ∈ F,
+// whose optimum is checked the same way. Returns the exact squared distance (nullopt when F is
+// empty).
 std::optional<Q> box_distance2(QCase& qc, const Planes& P, const detail::BoxT<ET>& b) {
+  if (qc.guess)
+    if (auto pair = proven_closest_pair(P, b, /*want_point=*/false)) {
+      g_closest_pairs.fetch_add(1, std::memory_order_relaxed);
+      return pair->dist2;
+    }
   Program qp(CGAL::LARGER, true, -1, true, 1);
   for (int k = 0; k < 3; ++k) {
     qp.set_l(3 + k, false);
@@ -248,35 +307,10 @@ std::optional<Q> box_distance2(QCase& qc, const Planes& P, const detail::BoxT<ET
   std::array<Q, 6> z;
   int i = 0;
   for (auto it = s.variable_values_begin(); it != s.variable_values_end() && i < 6; ++it, ++i) z[i] = q_of(*it);
-  // Check: the pair (x, y) is feasible and realises the optimal value exactly.
-  const auto& planes = qc.planes();
-  const auto& bq = qc.box();
-  std::array<Q, 3> x;
-  for (int k = 0; k < 3; ++k) {
-    if (z[k] > Q(1) || z[k] < Q(-1)) self_check_failed("distance QP: t outside [-1,1]");
-    x[k] = bq.c[k] + z[0] * bq.e[0][k] + z[1] * bq.e[1][k] + z[2] * bq.e[2][k];
-  }
-  for (int j = 0; j < 6; ++j) {
-    const auto& p = planes[j];
-    if (p[0] * z[3] + p[1] * z[4] + p[2] * z[5] + p[3] < 0) self_check_failed("distance QP: y outside F");
-  }
-  const Q value = q_of(s.objective_value());
-  const Q dx = x[0] - z[3], dy = x[1] - z[4], dz = x[2] - z[5];
-  if (dx * dx + dy * dy + dz * dz != value) self_check_failed("distance QP: value is not |x - y|^2");
-  if (CGAL::is_zero(value)) self_check_failed("distance QP: zero distance for an outside volume");
-  // Optimality, exactly: with KKT multipliers λ at y (y - x = Σ λ_j n_j over planes active at
-  // y), P = Σ λ_j plane_j is >= 0 on F and P(y) = 0; if also max_B P = P(x) = -|y - x|^2, then
-  // every b ∈ B, q ∈ F has (y - x)·(q - b) >= |y - x|^2, so |q - b| >= |y - x|.
-  const std::array<Q, 3> y{z[3], z[4], z[5]};
-  const auto lambda = kkt_multipliers(planes, y, x);
-  if (!lambda) self_check_failed("distance QP: no KKT multipliers prove optimality");
-  detail::Coeffs<Q> S{Q(0), Q(0), Q(0), Q(0)};
-  for (int j = 0; j < 6; ++j)
-    for (int k = 0; k < 4; ++k) S[k] += (*lambda)[j] * planes[j][k];
-  Q max_b = S[0] * bq.c[0] + S[1] * bq.c[1] + S[2] * bq.c[2] + S[3];
-  for (int e = 0; e < 3; ++e) max_b += CGAL::abs(S[0] * bq.e[e][0] + S[1] * bq.e[e][1] + S[2] * bq.e[e][2]);
-  if (max_b != -value) self_check_failed("distance QP: the closest pair is not optimal");
-  return value;
+  const PairCheck c = check_pair(qc, {z[0], z[1], z[2]}, {z[3], z[4], z[5]});
+  if (!c.value) self_check_failed(std::string("distance QP: ") + c.problem);
+  if (*c.value != q_of(s.objective_value())) self_check_failed("distance QP: value is not |x - y|^2");
+  return c.value;
 }
 
 Decision exact_sphere(const Planes& P, QCase& qc, const Sphere& sp, std::optional<Q>& dist2) {

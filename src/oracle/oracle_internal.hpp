@@ -30,6 +30,8 @@ using I = CGAL::Interval_nt<false>;  // filter intervals (need Protect_FPU_round
 
 /// Calls of the exact LP/QP solver (counted by the exact route, reported by stats()).
 extern std::atomic<std::uint64_t> g_exact_lp;
+/// Closest pairs found in double and proven exactly, in place of a QP solve.
+extern std::atomic<std::uint64_t> g_closest_pairs;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -112,6 +114,8 @@ class QCase {
     return *box_;
   }
   const Volume& volume() const { return v_; }
+  /// Options::closest_in_double: try a closest pair found in double before the exact QP.
+  bool guess = true;
 
  private:
   const CaseFrustum& f_;
@@ -170,6 +174,22 @@ Decision exact_sphere(const Planes& P, QCase& qc, const Sphere& sp, std::optiona
 Closest closest_point_of_frustum(QCase& qc, const Planes& P, const std::array<ET, 3>& c);
 /// Exact squared Euclidean distance between a box and F (nullopt when F is empty).
 std::optional<Q> box_distance2(QCase& qc, const Planes& P, const detail::BoxT<ET>& b);
+
+// ---- a candidate closest pair (oracle_closest.cpp) ---------------------------------------------
+
+/// The closest pair of B (c + Σ t_i e_i, |t_i| <= 1; a point when every e_i is 0) and F, proven:
+/// the squared distance, and with `want_point` the point y of F and multipliers λ (y - x =
+/// Σ λ_j n_j, λ >= 0, non-zero on planes through y only: the KKT multipliers closest_point_of_frustum
+/// returns). Found in double (GJK between B's corners and F's vertices, F bounded), solved exactly
+/// on the constraints active there, and kept only when the QP's optimality conditions hold
+/// exactly; nullopt otherwise (F empty or unbounded, the sets meet or nearly, a singular system, a
+/// condition that fails): the exact QP then decides.
+struct ClosestPair {
+  Q dist2;
+  std::array<Q, 3> y;
+  std::array<Q, 6> lambda;
+};
+std::optional<ClosestPair> proven_closest_pair(const Planes& P, const detail::BoxT<ET>& b, bool want_point);
 
 // ---- certificate checks (oracle_certificates.cpp) ---------------------------------------------
 

@@ -359,8 +359,59 @@ TEST(OracleApi, StatsCountFilterDecisionsAndFallbacks) {
   EXPECT_EQ(s.filtered + s.fallbacks, s.calls);
   EXPECT_GE(s.filtered, 1u);
   EXPECT_GE(s.fallbacks, 1u);
-  EXPECT_GT(s.exact_lp, 0u);
+  EXPECT_GT(s.exact_lp + s.closest_pairs, 0u);
   EXPECT_DOUBLE_EQ(s.fallback_fraction(), double(s.fallbacks) / 2.0);
+}
+
+// An outside volume's distance: the closest pair found in double and proven exactly where F is
+// bounded, the exact QP where it is not (here: no far plane), the same exact value as the QP
+// alone either way.
+TEST(OracleDistance, TheClosestPairFoundInDoubleIsTheQpsOptimum) {
+  Options qp_only;
+  qp_only.closest_in_double = false;
+  struct Expected {
+    Volume v;
+    double distance;
+  };
+  // The cube [-1,1]^3: a box beyond a corner at (1,1,1) + (1,2,2), a box beyond an edge, beside a
+  // face, a point, and a ball beyond a corner.
+  const std::vector<Expected> cases = {
+      {box({2, 3, 3}, {4, 4, 4}), 3.0},
+      {box({3, 4, -0.5f}, {5, 6, 0.25f}), std::sqrt(13.0)},
+      {box({1.5f, -8, -8}, {2, 8, 8}), 0.5},
+      {Point{1, 5, 1}, 4.0},
+      {Sphere{{3, 3, 2}, 1}, 2.0},
+  };
+  for (const Expected& e : cases) {
+    SCOPED_TRACE(format_volume(e.v));
+    reset_stats();
+    const Result fast = classify(frustum_spec(cube_frustum()), e.v);
+    EXPECT_EQ(stats().exact_lp, 0u) << "no QP solved";
+    EXPECT_GE(stats().closest_pairs, 1u);
+    const Result qp = classify(frustum_spec(cube_frustum()), e.v, qp_only);
+    ASSERT_EQ(fast.truth, Visibility::outside);
+    EXPECT_EQ(fast.distance, qp.distance);
+    EXPECT_NEAR(fast.distance, e.distance, 4e-16 * e.distance);
+  }
+  // Without a far plane F is unbounded: its search is cut to a box about B, the pair proven the same.
+  Frustum open = cube_frustum();
+  open[kFar] = Plane{{0, 0, 0}, 1};
+  reset_stats();
+  const Volume beyond = box({2, 3, -9}, {4, 4, -8});
+  const Result r = classify(frustum_spec(open), beyond);
+  EXPECT_EQ(stats().exact_lp, 0u);
+  EXPECT_EQ(r.distance, std::sqrt(5.0));
+  EXPECT_EQ(r.distance, classify(frustum_spec(open), beyond, qp_only).distance);
+  // A box one float step beyond the face x <= 1 of a frustum reaching to x = -2^40 lies too near
+  // for double to tell the planes active at the pair apart: the QP decides.
+  Frustum long_box = cube_frustum();
+  long_box[kLeft] = Plane{{1, 0, 0}, 0x1p40f};
+  reset_stats();
+  const float just = 1.0f + 0x1p-23f;
+  const Result near = classify(frustum_spec(long_box), box({just, -0.5f, -0.5f}, {2, 0.5f, 0.5f}));
+  EXPECT_EQ(stats().closest_pairs, 0u);
+  EXPECT_GT(stats().exact_lp, 0u);
+  EXPECT_EQ(near.distance, double(0x1p-23f));
 }
 
 TEST(OracleApi, TwoThreadsAgreeWithOneThread) {

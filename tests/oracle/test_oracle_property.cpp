@@ -1,6 +1,7 @@
 // The oracle against its independent second method: zero disagreements over generated cases.
 // Each case is also classified by the exact route alone (no filter), which must agree with the
-// filtered answer, and the distance must be consistent with the truth.
+// filtered answer, and the distance must be consistent with the truth (an outside volume's the
+// same with its closest pair found in double as by the exact QP alone).
 //
 // The cases come from the generator library (cullproof/gen/generators.hpp, cullproof/gen/arbitrary.hpp):
 // the exact families (touching by construction, containment both ways, degenerate volumes and
@@ -40,10 +41,17 @@ void check_case(const CaseFrustum& frustum, const Volume& volume) {
   exact_only.distance = false;
   exact_only.witness = false;
   RC_ASSERT(classify(frustum, volume, exact_only).truth == r.truth);
-  // Distances: outside volumes are at a positive distance (closed, disjoint, B compact).
+  // Distances: outside volumes are at a positive distance (closed, disjoint, B compact), the same
+  // exact value whether the closest pair was found in double and proven or solved as a QP.
   if (r.truth == Visibility::outside) {
     RC_ASSERT(r.distance_kind == DistanceKind::euclidean);
     RC_ASSERT(r.distance > 0.0);
+    Options qp_only;
+    qp_only.closest_in_double = false;
+    qp_only.witness = false;
+    const Result qp = classify(frustum, volume, qp_only);
+    RC_ASSERT(qp.truth == r.truth);
+    RC_ASSERT(qp.distance == r.distance);
   } else {
     RC_ASSERT(r.distance >= 0.0);
     RC_ASSERT(r.witness.kind == Witness::Kind::point);

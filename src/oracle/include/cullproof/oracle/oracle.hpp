@@ -106,6 +106,11 @@ struct Options {
   bool filter = true;    ///< try the interval filter before the exact route
   bool distance = true;  ///< compute Result::distance (an exact QP for outside volumes)
   bool witness = true;   ///< fill Result::witness (its exact numbers are formed as text)
+  /// Closest points (an outside volume's distance, a ball's nearest point of F): first a pair found
+  /// in double and solved exactly on the constraints active there, kept when its optimality
+  /// conditions hold exactly (the same checks as the QP's answer); else the exact QP. False: the
+  /// exact QP alone. The answer is the same exact optimum either way.
+  bool closest_in_double = true;
 };
 
 /// Exact classification of v against f with checked certificate and distance. Thread-safe.
@@ -115,6 +120,9 @@ Result classify(const CaseFrustum& f, const Volume& v);
 Result classify(const CaseFrustum& f, const Volume& v, const Options& options);
 /// Truth only: classify with the filter, no distance, no witness. Thread-safe.
 Visibility truth(const CaseFrustum& f, const Volume& v);
+/// classify(f, v).distance for a case whose truth the oracle has decided (by classify or truth),
+/// without deciding it again: `truth` must be that answer. Throws as classify. Thread-safe.
+double distance(const CaseFrustum& f, const Volume& v, Visibility truth);
 
 /// {"truth": "...", "distance": x (null when infinite or not computed), "distance_kind": "...",
 /// "filtered": bool, "witness": to_json(witness)}.
@@ -180,6 +188,7 @@ struct Stats {
   std::uint64_t filtered = 0;   ///< of those, decided by the interval filter
   std::uint64_t fallbacks = 0;  ///< of those, sent to the exact route
   std::uint64_t exact_lp = 0;   ///< exact LP solves (feasibility, certificate, distance QP)
+  std::uint64_t closest_pairs = 0;  ///< closest pairs found in double and proven, no QP solved
   /// fallbacks / calls (0 when no calls).
   double fallback_fraction() const noexcept {
     return calls == 0 ? 0.0 : static_cast<double>(fallbacks) / static_cast<double>(calls);
