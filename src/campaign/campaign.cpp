@@ -24,13 +24,19 @@ using namespace detail;
 constexpr std::int8_t kNotApplying = -1;  // the method does not take the volume or does not apply
 constexpr std::int8_t kNotAsked = -2;     // not asked (after its fault, or the run was stopped)
 
+// What the run keeps of every case (the case itself is drawn again from its index when needed).
 struct CaseOutcome {
   Visibility truth{};
-  bool judged = false;               // the oracle decided the truth
-  std::vector<std::int8_t> verdict;  // Visibility, kNotApplying or kNotAsked
-  double distance = std::numeric_limits<double>::quiet_NaN();  // oracle distance, erring cases only
-  double scale = 0.0;                                          // gen::case_scale, erring cases only
-  bool float_exact = false;                                    // gen::float_exact
+  bool judged = false;       // the oracle decided the truth
+  bool float_exact = false;  // gen::float_exact
+  std::uint8_t kind = 0;     // volume_kind of the volume
+};
+
+// What is measured of a case some method got wrong.
+struct ErrorMeasure {
+  double distance = std::numeric_limits<double>::quiet_NaN();  // the oracle's distance
+  double scale = 0.0;                                          // gen::case_scale
+  double scene_size = 1.0;                                     // GenCase::scene_size
   // error_distance per verdict (indexed by Visibility), where some method's claim needs it.
   static constexpr double kUnmeasured = -1.0;
   std::array<double, 3> verdict_distance{kUnmeasured, kUnmeasured, kUnmeasured};
@@ -40,23 +46,26 @@ std::int8_t verdict_code(const Answer& a) { return a ? std::int8_t(*a) : kNotApp
 
 constexpr std::uint64_t kNoFault = std::numeric_limits<std::uint64_t>::max();
 
-// One distribution of a run, step by step: draw the cases; run the methods (case by case, or on
-// camera paths frame by frame as an engine does, stateful methods on one thread), a method that
-// faults no longer asked past its fault; measure the errors' distances; then count each method's
-// errors, record them in the corpus and time the method. A stop request (VerifyOptions::stop)
-// ends the drawing and asking: what was judged is counted.
+// One distribution of a run, step by step: the cases drawn frame by frame and judged, the methods
+// run on them (case by case, or on camera paths frame by frame as an engine does, stateful
+// methods on one thread), a method that faults no longer asked past its fault; the errors'
+// distances measured; then each method's errors counted, recorded in the corpus, and the method
+// timed. Of each case the run keeps its truth and the verdicts; a case is drawn again from its
+// index where a later step needs it. A stop request (VerifyOptions::stop) ends the judging and
+// asking: what was judged is counted.
 class DistributionRun {
  public:
   DistributionRun(const VerifyOptions& opt, const std::vector<Method>& ms, gen::Distribution d, Progress& progress)
       : opt_(opt), ms_(ms), d_(d), progress_(progress), per_(opt.only_index ? 1 : opt.cases),
         first_(opt.only_index ? *opt.only_index : 0), on_paths_(d == gen::Distribution::camera_path),
-        cases_(per_), out_(per_), fault_at_(ms.size()), fault_problem_(ms.size()) {
+        per_frame_(gen::cases_per_frame(d)), out_(per_), verdicts_(per_ * ms.size(), kNotAsked),
+        fault_at_(ms.size()), fault_problem_(ms.size()) {
     for (auto& f : fault_at_) f.store(kNoFault, std::memory_order_relaxed);
   }
 
   DistributionResult run() {
     const auto st0 = oracle::stats();
-    draw_cases();
+    draw_paths();
     run_case_by_case();
     if (on_paths_) run_path_frames();
     run_stateful();
@@ -98,31 +107,37 @@ class DistributionRun {
   }
 
  private:
-  // Cases are drawn in parallel (each from its own index: gen::draw_case), in blocks so that a stop
-  // request ends the drawing with the cases before it drawn. Camera-path cases come path by path:
-  // each path is drawn once (and kept for the stateful methods, which run over it).
-  void draw_cases() {
-    constexpr std::uint64_t kBlock = 1 << 14;
-    for (std::uint64_t start = 0; start < per_ && !stopped(); start += kBlock) {
-      const std::uint64_t end = std::min(per_, start + kBlock);
-      if (on_paths_) {
-        for (std::uint64_t i = start; i < end; ++i) {
-          const gen::PathIndex at = gen::path_index(first_ + i);
-          if (!paths_.count(at.path)) paths_.emplace(at.path, gen::draw_path(opt_.seed, at.path));
-        }
+  // Camera paths are drawn first, each once (and kept: the stateful methods run over them); every
+  // other case is drawn where it is judged (run_case_by_case).
+  void draw_paths() {
+    drawn_ = per_;
+    if (!on_paths_) return;
+    for (std::uint64_t i = 0; i < per_; ++i) {
+      if (i % 4096 == 0 && stopped()) {
+        drawn_ = i;
+        return;
       }
-      tbb::parallel_for(tbb::blocked_range<std::uint64_t>(start, end, 256), [&](const tbb::blocked_range<std::uint64_t>& r) {
-        if (!on_paths_) gen::draw_cases(d_, opt_.seed, first_ + r.begin(), r.size(), &cases_[r.begin()]);
-        for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
-          if (on_paths_) {
-            const gen::PathIndex at = gen::path_index(first_ + i);
-            cases_[i] = gen::path_case(paths_.at(at.path), at.frame, at.object);
-          }
-          validate(cases_[i].volume);
-        }
-      });
-      drawn_ = end;
+      const gen::PathIndex at = gen::path_index(first_ + i);
+      if (!paths_.count(at.path)) paths_.emplace(at.path, gen::draw_path(opt_.seed, at.path));
     }
+  }
+
+  // The run's cases [a, b) (relative indices) into out[0, b - a): as the campaign draws them, a
+  // framed family's camera once per frame.
+  void frame_cases(std::uint64_t a, std::uint64_t b, std::vector<GenCase>& out) const {
+    out.resize(b - a);
+    if (!on_paths_) return gen::draw_cases(d_, opt_.seed, first_ + a, b - a, out.data());
+    for (std::uint64_t i = a; i < b; ++i) {
+      const gen::PathIndex at = gen::path_index(first_ + i);
+      out[i - a] = gen::path_case(paths_.at(at.path), at.frame, at.object);
+    }
+  }
+
+  // Case i of the run (a relative index), drawn again.
+  GenCase case_at(std::uint64_t i) const {
+    std::vector<GenCase> one;
+    frame_cases(i, i + 1, one);
+    return one[0];
   }
 
   // The path case of a stateful method at case index `index` of this run's paths: the frames up to
@@ -140,6 +155,9 @@ class DistributionRun {
 
   bool stopped() const { return opt_.stop && opt_.stop->load(std::memory_order_relaxed); }
 
+  std::int8_t& verdict(std::uint64_t i, std::size_t k) { return verdicts_[i * ms_.size() + k]; }
+  std::int8_t verdict(std::uint64_t i, std::size_t k) const { return verdicts_[i * ms_.size() + k]; }
+
   // Whether method k is still asked about case `index` (of the distribution): only below the
   // smallest index it faulted on so far, so that every case before its first fault is asked and
   // the same seed reports the same fault whatever the threads do.
@@ -156,29 +174,28 @@ class DistributionRun {
     }
   }
 
-  void run_one(std::uint64_t i, std::size_t k) {
+  void run_one(std::uint64_t i, std::size_t k, const GenCase& c) {
     if (!asks(k, first_ + i)) return;
     try {
-      out_[i].verdict[k] = verdict_code(run_method(ms_[k], cases_[i]));
+      verdict(i, k) = verdict_code(run_method(ms_[k], c));
     } catch (const std::exception& e) {
       note_fault(first_ + i, k, e.what());
     }
   }
 
   // A verdict on a camera path, kept when the case is one of the run's.
-  PathSink keep_verdicts(std::uint64_t path, std::size_t k) {
+  auto keep_verdicts(std::uint64_t path, std::size_t k) {
     return [this, path, k](std::size_t frame, std::size_t object, const Answer& a) {
       const std::uint64_t index = gen::path_case_index({path, frame, object});
       if (index >= first_ && index < first_ + drawn_ && out_[index - first_].judged && asks(k, index))
-        out_[index - first_].verdict[k] = verdict_code(a);
+        verdict(index - first_, k) = verdict_code(a);
     };
   }
 
   // The run's cases [a, b) of the frame of case a (relative indices): a family's frame
   // (gen::cases_per_frame), clipped to the run.
   std::uint64_t frame_end(std::uint64_t a) const {
-    const std::uint64_t per = gen::cases_per_frame(d_);
-    return std::min(drawn_, a + (per - (first_ + a) % per));
+    return std::min(drawn_, a + (per_frame_ - (first_ + a) % per_frame_));
   }
 
   // The truth of every case, in parallel, and the verdicts of the methods that are not stateful
@@ -187,42 +204,50 @@ class DistributionRun {
   void run_case_by_case() {
     std::vector<std::uint64_t> starts;  // of the frames
     for (std::uint64_t a = 0; a < drawn_; a = frame_end(a)) starts.push_back(a);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, starts.size(), std::max<std::size_t>(1, 64 / gen::cases_per_frame(d_))),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, starts.size(), std::max<std::size_t>(1, 64 / per_frame_)),
                       [&](const tbb::blocked_range<std::size_t>& r) {
       if (stopped()) return;
       std::uint64_t judged = 0;
+      std::vector<GenCase> cases;
+      std::vector<CaseFrustum> frame(1);
+      std::vector<Volume> volumes;
       for (std::size_t u = r.begin(); u != r.end(); ++u) {
         const std::uint64_t a = starts[u], b = frame_end(a);
+        frame_cases(a, b, cases);
         for (std::uint64_t i = a; i < b; ++i) {
-          out_[i].truth = oracle::truth(cases_[i].frustum, cases_[i].volume);
-          out_[i].float_exact = gen::float_exact(cases_[i].frustum, cases_[i].volume);
-          out_[i].verdict.resize(ms_.size(), kNotAsked);
+          const GenCase& c = cases[i - a];
+          validate(c.volume);
+          out_[i].truth = oracle::truth(c.frustum, c.volume);
+          out_[i].float_exact = gen::float_exact(c.frustum, c.volume);
+          out_[i].kind = std::uint8_t(volume_kind(c.volume));
           out_[i].judged = true;
         }
         judged += b - a;
         if (on_paths_) continue;
+        frame[0] = cases[0].frustum;
+        volumes.clear();
+        for (const GenCase& c : cases) volumes.push_back(c.volume);
         for (std::size_t k = 0; k < ms_.size(); ++k)
-          if (!ms_[k].stateful) run_frame(a, b, k);
+          if (!ms_[k].stateful) run_frame(a, b, k, cases, frame, volumes);
       }
       progress_.add(judged);
     });
   }
 
-  // Method k on the frame of cases [a, b): one case alone as ever; several as one frame. A fault on
-  // the frame (a batch call names no single volume) is looked for case by case, so that the fault
-  // is charged to the case that makes it; one the cases alone do not make is the frame's.
-  void run_frame(std::uint64_t a, std::uint64_t b, std::size_t k) {
-    if (b - a == 1) return run_one(a, k);
+  // Method k on the frame of cases [a, b) (`cases`; `frame` their frustum, `volumes` theirs): one
+  // case alone as ever; several as one frame. A fault on the frame (a batch call names no single
+  // volume) is looked for case by case, so that the fault is charged to the case that makes it;
+  // one the cases alone do not make is the frame's.
+  void run_frame(std::uint64_t a, std::uint64_t b, std::size_t k, const std::vector<GenCase>& cases,
+                 const std::vector<CaseFrustum>& frame, const std::vector<Volume>& volumes) {
+    if (b - a == 1) return run_one(a, k, cases[0]);
     if (!asks(k, first_ + a)) return;
-    const std::vector<CaseFrustum> frame{cases_[a].frustum};
-    std::vector<Volume> volumes;
-    for (std::uint64_t i = a; i < b; ++i) volumes.push_back(cases_[i].volume);
     try {
       run_path(ms_[k], frame, 0, 0, volumes, [&](std::size_t, std::size_t o, const Answer& v) {
-        if (asks(k, first_ + a + o)) out_[a + o].verdict[k] = verdict_code(v);
+        if (asks(k, first_ + a + o)) verdict(a + o, k) = verdict_code(v);
       }, /*reset=*/false);
     } catch (const PathFault& e) {
-      for (std::uint64_t i = a; i < b && asks(k, first_ + i); ++i) run_one(i, k);
+      for (std::uint64_t i = a; i < b && asks(k, first_ + i); ++i) run_one(i, k, cases[i - a]);
       if (asks(k, first_ + b - 1))
         note_fault(first_ + a + e.object, k,
                    fmt::format("{} (on the frame of cases {} to {}, classified in order; no case alone makes it)", e.what(),
@@ -262,8 +287,13 @@ class DistributionRun {
     for (std::size_t k = 0; k < ms_.size(); ++k) {
       if (!ms_[k].stateful) continue;
       if (!on_paths_) {
-        for (std::uint64_t i = 0; i < drawn_ && asks(k, first_ + i) && !(i % 64 == 0 && stopped()); ++i)
-          if (out_[i].judged) run_one(i, k);
+        std::vector<GenCase> cases;
+        for (std::uint64_t a = 0; a < drawn_ && asks(k, first_ + a) && !stopped(); a = frame_end(a)) {
+          const std::uint64_t b = frame_end(a);
+          frame_cases(a, b, cases);
+          for (std::uint64_t i = a; i < b; ++i)
+            if (out_[i].judged) run_one(i, k, cases[i - a]);
+        }
         continue;
       }
       for (const auto& [number, cp] : paths_) {
@@ -293,38 +323,55 @@ class DistributionRun {
         const GenCase g = gen::path_case(paths_.at(gen::path_index(at).path), gen::path_index(at).frame, pc.object);
         faults[k] = make_fault(opt_, m, d_, at, g, fault_problem_[k], &pc);
       } else {
-        faults[k] = make_fault(opt_, m, d_, at, cases_[at - first_], fault_problem_[k]);
+        faults[k] = make_fault(opt_, m, d_, at, case_at(at - first_), fault_problem_[k]);
       }
     }
     return faults;
   }
 
-  // The oracle's distance (an exact QP for outside volumes) and the case scale, once per case that
-  // some method got wrong, and the distance of each wrong verdict from the truth where a claim is
-  // judged on it, in parallel: they depend on the case and the verdict, not on the method.
+  // Whether some method's verdict on case i is an error.
+  bool erred(std::uint64_t i) const {
+    const CaseOutcome& o = out_[i];
+    if (!o.judged) return false;
+    for (std::size_t k = 0; k < ms_.size(); ++k) {
+      const std::int8_t v = verdict(i, k);
+      if (v >= 0 && error_class(Visibility(v), o.truth, ms_[k].three_way_on(o.kind)) != ErrorClass::correct) return true;
+    }
+    return false;
+  }
+
+  // The oracle's distance (an exact QP for outside volumes), the case scale and size, once per case
+  // that some method got wrong, and the distance of each wrong verdict from the truth where a claim
+  // is judged on it, in parallel: they depend on the case and the verdict, not on the method.
   void measure_errors() {
-    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, drawn_, 16), [&](const tbb::blocked_range<std::uint64_t>& r) {
-      for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
-        CaseOutcome& o = out_[i];
-        if (!o.judged) continue;
-        bool erred = false;
+    erring_.clear();
+    for (std::uint64_t i = 0; i < drawn_; ++i)
+      if (erred(i)) erring_.push_back(i);
+    measures_.assign(erring_.size(), ErrorMeasure{});
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, erring_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t e = r.begin(); e != r.end(); ++e) {
+        const std::uint64_t i = erring_[e];
+        const CaseOutcome& o = out_[i];
+        const GenCase c = case_at(i);
+        ErrorMeasure& m = measures_[e];
+        m.distance = oracle::distance(c.frustum, c.volume, o.truth);
+        m.scale = gen::case_scale(c.frustum, c.volume);
+        m.scene_size = c.scene_size;
         for (std::size_t k = 0; k < ms_.size(); ++k) {
-          const std::int8_t v = o.verdict[k];
-          erred = erred || (v >= 0 && error_class(Visibility(v), o.truth, ms_[k].three_way_on(cases_[i].volume)) !=
-                                          ErrorClass::correct);
-        }
-        if (!erred) continue;
-        o.distance = oracle::distance(cases_[i].frustum, cases_[i].volume, o.truth);
-        o.scale = gen::case_scale(cases_[i].frustum, cases_[i].volume);
-        for (std::size_t k = 0; k < ms_.size(); ++k) {
-          const std::int8_t v = o.verdict[k];
-          if (v < 0 || o.verdict_distance[std::size_t(v)] != CaseOutcome::kUnmeasured) continue;
-          if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way_on(cases_[i].volume)),
-                             o.float_exact))
-            o.verdict_distance[std::size_t(v)] = error_distance(cases_[i].frustum, cases_[i].volume, Visibility(v));
+          const std::int8_t v = verdict(i, k);
+          if (v < 0 || m.verdict_distance[std::size_t(v)] != ErrorMeasure::kUnmeasured) continue;
+          if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way_on(o.kind)), o.float_exact))
+            m.verdict_distance[std::size_t(v)] = error_distance(c.frustum, c.volume, Visibility(v));
         }
       }
     });
+  }
+
+  // The measures of an erring case i.
+  const ErrorMeasure& measure_of(std::uint64_t i) const {
+    const auto at = std::lower_bound(erring_.begin(), erring_.end(), i);
+    if (at == erring_.end() || *at != i) throw std::logic_error(fmt::format("case {} was not measured as an error", first_ + i));
+    return measures_[std::size_t(at - erring_.begin())];
   }
 
   // Timing frames, drawn once per set of volume kinds (methods that take the same kinds are timed
@@ -344,7 +391,7 @@ class DistributionRun {
   // The distance a method's error is judged on (error_distance), measured where its claim needs it.
   double judged_distance(std::size_t k, std::uint64_t i, ErrorClass cls) const {
     if (!needs_distance(ms_[k].claim, cls, out_[i].float_exact)) return std::numeric_limits<double>::infinity();
-    return out_[i].verdict_distance[std::size_t(out_[i].verdict[k])];
+    return measure_of(i).verdict_distance[std::size_t(verdict(i, k))];
   }
 
   // Method k's counts over the cases, and its errors recorded in the corpus.
@@ -364,13 +411,13 @@ class DistributionRun {
     std::map<ErrorClass, std::vector<std::pair<double, std::uint64_t>>> violating;
     const std::uint64_t fault_at = fault_at_[k].load();
     for (std::uint64_t i = 0; i < drawn_ && first_ + i < fault_at; ++i) {
-      if (!out_[i].judged || out_[i].verdict[k] < 0) continue;
+      if (!out_[i].judged || verdict(i, k) < 0) continue;
       const Visibility t = out_[i].truth;
       ++s.cases;
       (t == Visibility::outside ? s.truth_outside : t == Visibility::inside ? s.truth_inside : s.truth_intersecting)++;
-      const bool three_way = m.three_way_on(cases_[i].volume);
+      const bool three_way = m.three_way_on(out_[i].kind);
       if (t == Visibility::inside && three_way) ++s.truth_inside_three_way;
-      const ErrorClass cls = error_class(Visibility(out_[i].verdict[k]), t, three_way);
+      const ErrorClass cls = error_class(Visibility(verdict(i, k)), t, three_way);
       switch (cls) {
         case ErrorClass::correct: continue;
         case ErrorClass::false_reject: ++s.false_reject; break;
@@ -379,19 +426,19 @@ class DistributionRun {
         case ErrorClass::under_inside: ++s.under_inside; break;
       }
       const bool violation =
-          violates_claim(m.claim, cls, judged_distance(k, i, cls), m.tolerance, out_[i].scale, out_[i].float_exact);
+          violates_claim(m.claim, cls, judged_distance(k, i, cls), m.tolerance, measure_of(i).scale, out_[i].float_exact);
       if (violation && out_[i].float_exact) ++s.float_exact_violations;
       if (violation) ++s.claim_violations;
       if (violation && !s.first_violation) {
         s.first_violation = first_ + i;
         s.first_violation_reproduce = reproduce_command(opt_.seed, d_, first_ + i, m);
       }
-      if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(out_[i].distance / cases_[i].scene_size);
+      if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(measure_of(i).distance / measure_of(i).scene_size);
       // Corpus: corpus_per_class of the errors a claim allows (the expected false intersects and
       // under-insides of conservative methods), the first ones; the claim violations are chosen
       // below.
       if (violation) {
-        const double allowance = m.tolerance * out_[i].scale;
+        const double allowance = m.tolerance * measure_of(i).scale;
         const double d = judged_distance(k, i, cls);
         violating[cls].push_back({std::isfinite(d) && allowance > 0.0 ? d / allowance : kUnbounded, i});
       } else if (opt_.corpus && written[cls] < opt_.corpus_per_class) {
@@ -414,10 +461,12 @@ class DistributionRun {
   // Case i with its frame's volumes (a framed family's frame, clipped to the run), as a path of one
   // frame.
   PathCase frame_case_at(std::uint64_t i) const {
-    const std::uint64_t a = i - std::min(i, (first_ + i) % gen::cases_per_frame(d_)), b = frame_end(a);
+    const std::uint64_t a = i - std::min(i, (first_ + i) % per_frame_), b = frame_end(a);
+    std::vector<GenCase> cases;
+    frame_cases(a, b, cases);
     PathCase pc;
-    pc.frames = {cases_[a].frustum};
-    for (std::uint64_t j = a; j < b; ++j) pc.objects.push_back(cases_[j].volume);
+    pc.frames = {cases[0].frustum};
+    for (const GenCase& c : cases) pc.objects.push_back(c.volume);
     pc.object = std::size_t(i - a);
     pc.motion = "still";
     return pc;
@@ -430,22 +479,23 @@ class DistributionRun {
   void record(std::size_t k, std::uint64_t i, ErrorClass cls, bool violation, MethodStats& s) {
     const Method& m = ms_[k];
     const Visibility t = out_[i].truth;
+    const GenCase c = case_at(i);
     auto alone_shows_it = [&] {
       try {
-        const Answer a = run_method(m, cases_[i]);
-        return a && error_class(*a, t, m.three_way_on(cases_[i].volume)) == cls;
+        const Answer a = run_method(m, c);
+        return a && error_class(*a, t, m.three_way_on(c.volume)) == cls;
       } catch (const std::exception&) {
         return false;
       }
     };
     std::optional<PathCase> path;
     GenCase small;
-    const bool framed = !on_paths_ && gen::cases_per_frame(d_) > 1 && !m.stateful;
+    const bool framed = !on_paths_ && per_frame_ > 1 && !m.stateful;
     if ((on_paths_ && (m.stateful || !alone_shows_it())) || (framed && !alone_shows_it())) {
       PathCase pc = on_paths_ ? path_case_at(first_ + i) : frame_case_at(i);
       if (!m.stateful) pc.frames = {pc.frames.back()};
       path = shrink_path(std::move(pc), m, cls, t, opt_.shrink_budget);
-      small = cases_[i];
+      small = c;
     } else {
       small = shrink(gen::draw(d_, opt_.seed, first_ + i), m, cls, violation, opt_.shrink_budget);
     }
@@ -475,9 +525,12 @@ class DistributionRun {
   Progress& progress_;
   const std::uint64_t per_, first_;
   const bool on_paths_;
-  std::vector<GenCase> cases_;
+  const std::uint64_t per_frame_;  // gen::cases_per_frame
   std::vector<CaseOutcome> out_;
-  std::uint64_t drawn_ = 0;  // cases drawn (all of per_ unless stopped)
+  std::vector<std::int8_t> verdicts_;  // per case, per method: Visibility, kNotApplying or kNotAsked
+  std::vector<std::uint64_t> erring_;  // the cases some method got wrong, in order
+  std::vector<ErrorMeasure> measures_;  // theirs
+  std::uint64_t drawn_ = 0;  // cases of the run (all of per_ unless stopped while paths were drawn)
   std::map<std::uint64_t, gen::CameraPath> paths_;
   std::mutex fault_mutex_;
   std::vector<std::atomic<std::uint64_t>> fault_at_;  // per method: the smallest index it faulted on

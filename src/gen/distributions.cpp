@@ -195,17 +195,40 @@ std::uint64_t draw_key(std::uint64_t seed, Distribution d, std::uint64_t index) 
 // Frame cameras are drawn from a stream apart from the cases' volumes ("camera" in ASCII).
 constexpr std::uint64_t kCameraStream = 0x63616d657261ull;
 
+// A framed family's frame: its camera drawn from the frame's key, the frustum and the placement
+// its cases share.
+struct FrameCamera {
+  CaseFrustum frustum;
+  Placement placement;
+};
+
+FrameCamera frame_camera(Distribution d, std::uint64_t seed, std::uint64_t frame, std::vector<std::int64_t>* log) {
+  FastDraw scope(draw_key(seed ^ kCameraStream, d, frame), log);
+  const Camera cam = generic_camera();
+  FrameCamera out;
+  out.placement = placement_for(cam);
+  out.frustum = realize(cam);
+  return out;
+}
+
+// A framed family's case `index` on its frame's camera: the volume drawn from the case's key.
+void framed_case(Distribution d, std::uint64_t seed, std::uint64_t index, const FrameCamera& fc, GenCase& out,
+                 std::vector<std::int64_t>* log) {
+  FastDraw scope(draw_key(seed, d, index), log);
+  out.frustum = fc.frustum;
+  out.volume = generic_volume(d, fc.placement);
+  out.scene_size = fc.placement.size;
+}
+
 // The case's own draw, keyed by (seed, d, index), off RapidCheck; its values logged when asked. A
 // framed family's camera comes from its frame's key, the volume from the case's: the same draws,
 // in the same order, as generic_case makes.
 GenCase fast_case(Distribution d, std::uint64_t seed, std::uint64_t index, std::vector<std::int64_t>* log = nullptr) {
   const Entry& e = entry(d);
   if (e.framed) {
-    FastDraw camera_scope(draw_key(seed ^ kCameraStream, d, index / kFrameCases), log);
-    const Camera cam = generic_camera();
-    const Placement p = placement_for(cam);
-    FastDraw volume_scope(draw_key(seed, d, index), log);
-    return make(cam, p, generic_volume(d, p));
+    GenCase g;
+    framed_case(d, seed, index, frame_camera(d, seed, index / kFrameCases, log), g, log);
+    return g;
   }
   FastDraw scope(draw_key(seed, d, index), log);
   return e.make();
@@ -254,21 +277,14 @@ void draw_cases(Distribution d, std::uint64_t seed, std::uint64_t first, std::si
   }
   // The frame's camera, its frustum and placement once per frame.
   std::uint64_t frame = ~std::uint64_t(0);
-  Placement p;
-  CaseFrustum f;
+  FrameCamera fc;
   for (std::size_t k = 0; k < count; ++k) {
     const std::uint64_t index = first + k;
     if (index / kFrameCases != frame) {
       frame = index / kFrameCases;
-      FastDraw camera_scope(draw_key(seed ^ kCameraStream, d, frame));
-      const Camera cam = generic_camera();
-      p = placement_for(cam);
-      f = realize(cam);
+      fc = frame_camera(d, seed, frame, nullptr);
     }
-    FastDraw volume_scope(draw_key(seed, d, index));
-    out[k].frustum = f;
-    out[k].volume = generic_volume(d, p);
-    out[k].scene_size = p.size;
+    framed_case(d, seed, index, fc, out[k], nullptr);
   }
 }
 

@@ -36,14 +36,49 @@ void call_method(const Method& m, const char* what, F&& f) {
 
 namespace detail {
 
-void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size_t first, std::size_t last,
-              const std::vector<Volume>& objects, const PathSink& sink, bool reset) {
+namespace {
+
+// run_path's working arrays, kept per thread so that a frame costs no allocation once they have
+// grown; a nested call (a sink that runs a method again) gets its own.
+struct PathScratch {
   std::vector<std::size_t> order;  // objects the method takes, in path order
   std::vector<Point> points;
   std::vector<Sphere> spheres;
   std::vector<Aabb> aabbs;
   std::vector<Obb> obbs;
   std::vector<std::size_t> of_kind[4];  // path index of each, by kind
+  std::vector<Answer> answers;
+  bool busy = false;
+  void clear() {
+    order.clear();
+    points.clear();
+    spheres.clear();
+    aabbs.clear();
+    obbs.clear();
+    for (auto& k : of_kind) k.clear();
+  }
+};
+
+}  // namespace
+
+void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size_t first, std::size_t last,
+              const std::vector<Volume>& objects, const PathSink& sink, bool reset) {
+  thread_local PathScratch shared;
+  PathScratch own;
+  PathScratch& s = shared.busy ? own : shared;
+  s.clear();
+  struct Busy {
+    bool& b;
+    explicit Busy(bool& x) : b(x) { b = true; }
+    ~Busy() { b = false; }
+  } busy(s.busy);
+  auto& order = s.order;
+  auto& points = s.points;
+  auto& spheres = s.spheres;
+  auto& aabbs = s.aabbs;
+  auto& obbs = s.obbs;
+  auto& of_kind = s.of_kind;
+  auto& answers = s.answers;
   for (std::size_t o = 0; o < objects.size(); ++o) {
     if (!m.takes(objects[o])) continue;
     order.push_back(o);
@@ -66,7 +101,6 @@ void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size
     }
   };
   if (reset) guarded(first, order[0], " in reset()", [&] { m.reset(); });
-  std::vector<Answer> answers;
   for (std::size_t f = first; f <= last; ++f) {
     std::unique_ptr<PreparedFrustum> p;
     guarded(f, order[0], " in prepare", [&] { p = m.prepare(frames[f]); });

@@ -57,8 +57,11 @@ Decision decide(const CaseFrustum& f, const Volume& v, const Options& o, ExactCa
       r.filtered = true;
       Decision d;
       d.truth = fa.truth;
-      if (fa.truth == Visibility::outside) d.lambda = q_array(fa.lambda);
-      else d.t_or_point = q_array(fa.pt);
+      // The certificate in exact numbers, for the witness alone: the filter's bounds proved it.
+      if (o.witness) {
+        if (fa.truth == Visibility::outside) d.lambda = q_array(fa.lambda);
+        else d.t_or_point = q_array(fa.pt);
+      }
       return d;
     }
     g_fallbacks.fetch_add(1, std::memory_order_relaxed);

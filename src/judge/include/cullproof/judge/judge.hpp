@@ -12,10 +12,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -93,8 +95,24 @@ struct PathFault : std::runtime_error {
   std::size_t frame, object;
 };
 
-/// Receives (frame, object, answer) for each object a method takes on a camera path.
-using PathSink = std::function<void(std::size_t frame, std::size_t object, const Answer& answer)>;
+/// Receives (frame, object, answer) for each object a method takes on a camera path. It refers to
+/// a callable (nothing copied, nothing allocated), which must outlive the call it is passed to.
+class PathSink {
+ public:
+  template <class F, class = std::enable_if_t<!std::is_same_v<std::decay_t<F>, PathSink>>>
+  PathSink(F&& f) noexcept  // implicit: a lambda is passed where a sink is asked for
+      : callable_(static_cast<const void*>(std::addressof(f))),
+        call_([](const void* c, std::size_t frame, std::size_t object, const Answer& answer) {
+          (*static_cast<std::remove_reference_t<F>*>(const_cast<void*>(c)))(frame, object, answer);
+        }) {}
+  void operator()(std::size_t frame, std::size_t object, const Answer& answer) const {
+    call_(callable_, frame, object, answer);
+  }
+
+ private:
+  const void* callable_;
+  void (*call_)(const void*, std::size_t, std::size_t, const Answer&);
+};
 
 /// Runs method `m` over frames[first..last] of a camera path with `objects` (see the contract in
 /// cullproof/methods/methods.hpp), after reset() when `reset`; sink(frame, object, answer) for each
