@@ -89,7 +89,12 @@ class DistributionRun {
     for (std::size_t k = 0; k < ms_.size(); ++k) {
       MethodStats s = tally(k);
       if (faults[k]) s.fault = std::move(faults[k]);
-      if (timing && !s.fault) {
+      dr.methods.push_back(std::move(s));
+    }
+    if (timing) {
+      auto time_one = [&](std::size_t k) {
+        MethodStats& s = dr.methods[k];
+        if (s.fault) return;
         try {
           const Timing t = time_method(ms_[k], frames.at(ms_[k].volumes));
           s.ns_per_test = t.ns_per_test;
@@ -100,8 +105,19 @@ class DistributionRun {
           s.fault = timing_fault(ms_[k], fmt::format("{} (while timed: frames of {} volumes drawn from seed {})", e.what(),
                                                      opt_.frame_size, opt_.seed));
         }
-      }
-      dr.methods.push_back(std::move(s));
+      };
+      // In-process methods are timed one per thread at a time; a program's one after another (its
+      // process would make two of them wait on each other).
+      std::vector<std::size_t> in_process;
+      for (std::size_t k = 0; k < ms_.size(); ++k)
+        if (ms_[k].program.empty()) in_process.push_back(k);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in_process.size(), 1),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t u = r.begin(); u != r.end(); ++u) time_one(in_process[u]);
+                        },
+                        tbb::simple_partitioner());
+      for (std::size_t k = 0; k < ms_.size(); ++k)
+        if (!ms_[k].program.empty()) time_one(k);
     }
     return dr;
   }
@@ -281,31 +297,40 @@ class DistributionRun {
     });
   }
 
-  // Stateful methods on one thread: over each camera path from its first frame to the last frame a
-  // case of the run is on; elsewhere case by case, each a path of one frame.
+  // Each stateful method on one thread (different ones at once): over each camera path from its
+  // first frame to the last frame a case of the run is on; elsewhere case by case, each a path of
+  // one frame.
   void run_stateful() {
-    for (std::size_t k = 0; k < ms_.size(); ++k) {
-      if (!ms_[k].stateful) continue;
-      if (!on_paths_) {
-        std::vector<GenCase> cases;
-        for (std::uint64_t a = 0; a < drawn_ && asks(k, first_ + a) && !stopped(); a = frame_end(a)) {
-          const std::uint64_t b = frame_end(a);
-          frame_cases(a, b, cases);
-          for (std::uint64_t i = a; i < b; ++i)
-            if (out_[i].judged) run_one(i, k, cases[i - a]);
-        }
-        continue;
+    std::vector<std::size_t> stateful;
+    for (std::size_t k = 0; k < ms_.size(); ++k)
+      if (ms_[k].stateful) stateful.push_back(k);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, stateful.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t u = r.begin(); u != r.end(); ++u) run_stateful(stateful[u]);
+                      },
+                      tbb::simple_partitioner());
+  }
+
+  void run_stateful(std::size_t k) {
+    if (!on_paths_) {
+      std::vector<GenCase> cases;
+      for (std::uint64_t a = 0; a < drawn_ && asks(k, first_ + a) && !stopped(); a = frame_end(a)) {
+        const std::uint64_t b = frame_end(a);
+        frame_cases(a, b, cases);
+        for (std::uint64_t i = a; i < b; ++i)
+          if (out_[i].judged) run_one(i, k, cases[i - a]);
       }
-      for (const auto& [number, cp] : paths_) {
-        const std::uint64_t base = gen::path_case_index({number, 0, 0});
-        if (!asks(k, base) || stopped()) break;
-        const std::uint64_t last = std::min(base + gen::kPathFrames * gen::kPathObjects, first_ + drawn_) - 1;
-        try {
-          run_path(ms_[k], cp.frames, 0, gen::path_index(last).frame, cp.objects, keep_verdicts(number, k));
-        } catch (const PathFault& e) {
-          note_fault(gen::path_case_index({number, e.frame, e.object}), k,
-                     fmt::format("{} (camera path frame {}, object {})", e.what(), e.frame, e.object));
-        }
+      return;
+    }
+    for (const auto& [number, cp] : paths_) {
+      const std::uint64_t base = gen::path_case_index({number, 0, 0});
+      if (!asks(k, base) || stopped()) break;
+      const std::uint64_t last = std::min(base + gen::kPathFrames * gen::kPathObjects, first_ + drawn_) - 1;
+      try {
+        run_path(ms_[k], cp.frames, 0, gen::path_index(last).frame, cp.objects, keep_verdicts(number, k));
+      } catch (const PathFault& e) {
+        note_fault(gen::path_case_index({number, e.frame, e.object}), k,
+                   fmt::format("{} (camera path frame {}, object {})", e.what(), e.frame, e.object));
       }
     }
   }
