@@ -11,11 +11,12 @@
 // BM_DrawShrinkable: the same case as the Shrinkable a mismatch is shrunk from (gen::draw: drawn,
 //   then replayed inside RapidCheck), its root evaluated; paid once per error recorded.
 // BM_OracleTruth: the oracle's truth of one case (filtered; cases drawn beforehand), per case.
-// BM_Campaign/<set>/<threads>: run_verify over 20,000 cases of `uniform`, no timing, no corpus, no
-//   progress; set 0: one method (`pn-vertex`), set 1: every built-in method; items = cases.
+// BM_Campaign/<set>/<threads>: run_verify over cases of `uniform`, no timing, no corpus, no
+//   progress; set 0: one method (`pn-vertex`), 200,000 cases; set 1: every built-in method,
+//   20,000 cases; items = cases.
 // BM_CampaignProtocol/<jobs>: the same run of the reference adapter (the n/p-vertex test behind the
-//   process protocol, tests/protocol/reference_adapter.cpp) with <jobs> copies, 2 threads; only
-//   built when the tests are.
+//   process protocol, tests/protocol/reference_adapter.cpp) with <jobs> copies, 2 threads, 200,000
+//   cases (BM_Campaign/0/2 is the same run in process); only built when the tests are.
 // Counters: cases_per_second (items_per_second) in every run.
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/oracle/oracle.hpp"
@@ -32,7 +33,7 @@ namespace {
 using namespace cullproof;
 
 constexpr gen::Distribution kFamily = gen::Distribution::uniform;
-constexpr std::uint64_t kRunCases = 20000;
+constexpr std::uint64_t kOneMethodCases = 200000, kEveryMethodCases = 20000;
 
 void BM_Draw(benchmark::State& state) {
   std::uint64_t i = 0;
@@ -72,9 +73,9 @@ void BM_OracleTruth(benchmark::State& state) {
 }
 BENCHMARK(BM_OracleTruth);
 
-VerifyOptions run_options(int threads) {
+VerifyOptions run_options(int threads, std::uint64_t cases) {
   VerifyOptions o;
-  o.cases = kRunCases;
+  o.cases = cases;
   o.seed = 1;
   o.distributions = {kFamily};
   o.threads = threads;
@@ -85,12 +86,12 @@ VerifyOptions run_options(int threads) {
 
 void BM_Campaign(benchmark::State& state) {
   const std::vector<Method> methods = state.range(0) == 0 ? builtin_methods({"pn-vertex"}) : builtin_methods();
-  const VerifyOptions o = run_options(int(state.range(1)));
+  const VerifyOptions o = run_options(int(state.range(1)), state.range(0) == 0 ? kOneMethodCases : kEveryMethodCases);
   for (auto _ : state) benchmark::DoNotOptimize(run_verify(o, methods));
-  state.SetItemsProcessed(state.iterations() * std::int64_t(kRunCases));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(o.cases));
   state.counters["methods"] = double(methods.size());
 }
-BENCHMARK(BM_Campaign)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_Campaign)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
 #ifdef CULLPROOF_REFERENCE_ADAPTER
 void BM_CampaignProtocol(benchmark::State& state) {
@@ -98,11 +99,11 @@ void BM_CampaignProtocol(benchmark::State& state) {
   e.command = {CULLPROOF_REFERENCE_ADAPTER};
   e.instances = int(state.range(0));
   const std::vector<Method> methods = external_methods(e);
-  const VerifyOptions o = run_options(2);
+  const VerifyOptions o = run_options(2, kOneMethodCases);
   for (auto _ : state) benchmark::DoNotOptimize(run_verify(o, methods));
-  state.SetItemsProcessed(state.iterations() * std::int64_t(kRunCases));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(o.cases));
 }
-BENCHMARK(BM_CampaignProtocol)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_CampaignProtocol)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 #endif
 
 }  // namespace
