@@ -34,7 +34,7 @@ struct CaseOutcome {
 
 // What is measured of a case some method got wrong.
 struct ErrorMeasure {
-  double distance = std::numeric_limits<double>::quiet_NaN();  // the oracle's distance
+  double distance = std::numeric_limits<double>::quiet_NaN();  // the oracle's distance (false intersects)
   double scale = 0.0;                                          // gen::case_scale
   double scene_size = 1.0;                                     // GenCase::scene_size
   // error_distance per verdict (indexed by Visibility), where some method's claim needs it.
@@ -379,7 +379,11 @@ class DistributionRun {
         const CaseOutcome& o = out_[i];
         const GenCase c = case_at(i);
         ErrorMeasure& m = measures_[e];
-        m.distance = oracle::distance(c.frustum, c.volume, o.truth);
+        // The distance is reported for false intersects only (the table's FI distance).
+        bool false_intersect = false;
+        for (std::size_t k = 0; k < ms_.size() && o.truth == Visibility::outside && !false_intersect; ++k)
+          false_intersect = verdict(i, k) == std::int8_t(Visibility::intersecting);
+        if (false_intersect) m.distance = oracle::distance(c.frustum, c.volume, o.truth);
         m.scale = gen::case_scale(c.frustum, c.volume);
         m.scene_size = c.scene_size;
         for (std::size_t k = 0; k < ms_.size(); ++k) {
@@ -392,11 +396,11 @@ class DistributionRun {
     });
   }
 
-  // The measures of an erring case i.
-  const ErrorMeasure& measure_of(std::uint64_t i) const {
-    const auto at = std::lower_bound(erring_.begin(), erring_.end(), i);
-    if (at == erring_.end() || *at != i) throw std::logic_error(fmt::format("case {} was not measured as an error", first_ + i));
-    return measures_[std::size_t(at - erring_.begin())];
+  // The measures at position e of the erring cases (erring_ is in case order), which must be case
+  // i's.
+  const ErrorMeasure& measure_at(std::size_t e, std::uint64_t i) const {
+    if (e >= erring_.size() || erring_[e] != i) throw std::logic_error(fmt::format("case {} was not measured as an error", first_ + i));
+    return measures_[e];
   }
 
   // Timing frames, drawn once per set of volume kinds (methods that take the same kinds are timed
@@ -414,9 +418,9 @@ class DistributionRun {
   }
 
   // The distance a method's error is judged on (error_distance), measured where its claim needs it.
-  double judged_distance(std::size_t k, std::uint64_t i, ErrorClass cls) const {
+  double judged_distance(std::size_t k, std::uint64_t i, ErrorClass cls, const ErrorMeasure& me) const {
     if (!needs_distance(ms_[k].claim, cls, out_[i].float_exact)) return std::numeric_limits<double>::infinity();
-    return measure_of(i).verdict_distance[std::size_t(verdict(i, k))];
+    return me.verdict_distance[std::size_t(verdict(i, k))];
   }
 
   // Method k's counts over the cases, and its errors recorded in the corpus.
@@ -435,6 +439,7 @@ class DistributionRun {
     constexpr double kUnbounded = std::numeric_limits<double>::infinity();
     std::map<ErrorClass, std::vector<std::pair<double, std::uint64_t>>> violating;
     const std::uint64_t fault_at = fault_at_[k].load();
+    std::size_t next_erring = 0;  // the cases go up: the erring ones are met in order
     for (std::uint64_t i = 0; i < drawn_ && first_ + i < fault_at; ++i) {
       if (!out_[i].judged || verdict(i, k) < 0) continue;
       const Visibility t = out_[i].truth;
@@ -450,22 +455,23 @@ class DistributionRun {
         case ErrorClass::false_intersect: ++s.false_intersect; break;
         case ErrorClass::under_inside: ++s.under_inside; break;
       }
-      const bool violation =
-          violates_claim(m.claim, cls, judged_distance(k, i, cls), m.tolerance, measure_of(i).scale, out_[i].float_exact);
+      while (next_erring < erring_.size() && erring_[next_erring] < i) ++next_erring;
+      const ErrorMeasure& me = measure_at(next_erring, i);
+      const double judged = judged_distance(k, i, cls, me);
+      const bool violation = violates_claim(m.claim, cls, judged, m.tolerance, me.scale, out_[i].float_exact);
       if (violation && out_[i].float_exact) ++s.float_exact_violations;
       if (violation) ++s.claim_violations;
       if (violation && !s.first_violation) {
         s.first_violation = first_ + i;
         s.first_violation_reproduce = reproduce_command(opt_.seed, d_, first_ + i, m);
       }
-      if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(measure_of(i).distance / measure_of(i).scene_size);
+      if (cls == ErrorClass::false_intersect) s.fi_distance.push_back(me.distance / me.scene_size);
       // Corpus: corpus_per_class of the errors a claim allows (the expected false intersects and
       // under-insides of conservative methods), the first ones; the claim violations are chosen
       // below.
       if (violation) {
-        const double allowance = m.tolerance * measure_of(i).scale;
-        const double d = judged_distance(k, i, cls);
-        violating[cls].push_back({std::isfinite(d) && allowance > 0.0 ? d / allowance : kUnbounded, i});
+        const double allowance = m.tolerance * me.scale;
+        violating[cls].push_back({std::isfinite(judged) && allowance > 0.0 ? judged / allowance : kUnbounded, i});
       } else if (opt_.corpus && written[cls] < opt_.corpus_per_class) {
         ++written[cls];
         record(k, i, cls, false, s);

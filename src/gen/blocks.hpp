@@ -143,7 +143,19 @@ GenCase generic_case(Distribution d);                   // generic.cpp
 /// `frustum`: how the case's frustum is made from its frame (unset: the touch family's, planes or
 /// an OpenGL matrix).
 GenCase touch_case(bool nudge, const std::function<CaseFrustum(const ExactFrame&)>& frustum = nullptr);  // touch.cpp
-GenCase contact_case();                                  // contact.cpp
+/// touch_case's volume on frame e, its frustum made by `frustum` (called where touch_case draws it).
+GenCase touch_on(const ExactFrame& e, bool nudge, const std::function<CaseFrustum()>& frustum);
+/// A frame of the contact family: the frustum its volumes touch and what places them.
+struct ContactFrame {
+  bool ortho = true;         ///< an orthographic box (else the touch family's perspective frustum)
+  ExactFrame e;
+  float w = 1, f = 3;        ///< orthographic: |x|, |y| <= w, z in [-f, -e.n]
+  bool unit_planes = false;  ///< orthographic, given as unit planes (where spheres are exact)
+  CaseFrustum frustum;
+};
+ContactFrame contact_frame();                            // contact.cpp
+GenCase contact_volume(const ContactFrame& frame);
+GenCase contact_case();                                  // contact_volume(contact_frame())
 GenCase far_offset_case();                               // hard.cpp
 GenCase tiny_near_case();
 GenCase reversed_infinite_case();

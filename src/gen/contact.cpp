@@ -15,6 +15,8 @@ namespace cullproof::gen::detail {
 // Volumes meet the frustum's boundary: flat boxes lying in a face (inside), boxes touching a face,
 // an edge or a vertex from outside (intersecting) or from inside (inside), points on faces, edges
 // and corners, spheres tangent to a face from either side, OBBs with permuted axes.
+// A frame (contact_frame) draws the frustum; its volumes (contact_volume) are drawn each on its
+// own, all in contact with that frustum.
 
 DepthConvention any_depth() {
   DepthConvention d;
@@ -47,11 +49,41 @@ Obb permuted_obb(const ExactFrame& e, const Aabb& view_box) {
   return o;
 }
 
-GenCase contact_ortho() {
-  const ExactFrame e = exact_frame();
-  const float w = std::ldexp(1.0f, int(integer(-1, 2)));  // 0.5 .. 4
-  const float n = e.n, f = n + std::ldexp(1.0f, int(integer(0, 4)));
-  const int shape = pick(10);  // 0-3 box, 4-5 OBB, 6-7 point, 8-9 sphere
+// An orthographic frame: the box, its world frame and its form (unit planes, or a matrix in any
+// depth convention).
+void ortho_frame(ContactFrame& cf) {
+  cf.ortho = true;
+  cf.e = exact_frame();
+  cf.w = std::ldexp(1.0f, int(integer(-1, 2)));  // 0.5 .. 4
+  cf.f = cf.e.n + std::ldexp(1.0f, int(integer(0, 4)));
+  const ExactFrame& e = cf.e;
+  const float w = cf.w, n = e.n, f = cf.f;
+  cf.unit_planes = coin(50);
+  if (cf.unit_planes) {
+    Frustum fr;
+    fr.planes[kLeft] = world_plane(e, {1, 0, 0}, w);
+    fr.planes[kRight] = world_plane(e, {-1, 0, 0}, w);
+    fr.planes[kBottom] = world_plane(e, {0, 1, 0}, w);
+    fr.planes[kTop] = world_plane(e, {0, -1, 0}, w);
+    fr.planes[kNear] = world_plane(e, {0, 0, -1}, -n);
+    fr.planes[kFar] = world_plane(e, {0, 0, 1}, f);
+    cf.frustum = frustum_spec(fr);
+  } else {
+    const DepthConvention depth = any_depth();
+    glm::mat4 p = depth.range == DepthRange::negative_one_to_one ? glm::orthoRH_NO(-w, w, -w, w, n, f)
+                                                                  : glm::orthoRH_ZO(-w, w, -w, w, n, f);
+    if (depth.reversed_z) p = reverse_depth(p, depth.range);
+    cf.frustum = frustum_spec(p * view_of(e), depth);
+  }
+}
+
+// A volume in contact with an orthographic frame's box.
+GenCase ortho_volume(const ContactFrame& cf) {
+  const ExactFrame& e = cf.e;
+  const float w = cf.w, n = e.n, f = cf.f;
+  // 0-3 box, 4-5 OBB, 6-7 point, 8-13 sphere (on unit planes only, where its test is exact: one
+  // case in ten a sphere, as many as when every sphere drew its own frustum)
+  const int shape = pick(cf.unit_planes ? 14 : 8);
   // Face coordinates per view axis: the inside is [lo, hi].
   const glm::vec3 lo(-w, -w, -f), hi(w, w, -n);
   const float s = dyadic(0.0625f, 0.5f) * std::min(w, f - n);  // volume size, below the frustum's
@@ -85,23 +117,7 @@ GenCase contact_ortho() {
   }
   GenCase g;
   g.scene_size = 2.0 * std::sqrt(2.0 * w * w + (f - n) * (f - n) / 4.0);
-  const bool planes_form = shape >= 8 || coin(50);
-  if (planes_form) {
-    Frustum fr;
-    fr.planes[kLeft] = world_plane(e, {1, 0, 0}, w);
-    fr.planes[kRight] = world_plane(e, {-1, 0, 0}, w);
-    fr.planes[kBottom] = world_plane(e, {0, 1, 0}, w);
-    fr.planes[kTop] = world_plane(e, {0, -1, 0}, w);
-    fr.planes[kNear] = world_plane(e, {0, 0, -1}, -n);
-    fr.planes[kFar] = world_plane(e, {0, 0, 1}, f);
-    g.frustum = frustum_spec(fr);
-  } else {
-    const DepthConvention depth = any_depth();
-    glm::mat4 p = depth.range == DepthRange::negative_one_to_one ? glm::orthoRH_NO(-w, w, -w, w, n, f)
-                                                                  : glm::orthoRH_ZO(-w, w, -w, w, n, f);
-    if (depth.reversed_z) p = reverse_depth(p, depth.range);
-    g.frustum = frustum_spec(p * view_of(e), depth);
-  }
+  g.frustum = cf.frustum;
   const Aabb box{glm::min(a, b), glm::max(a, b)};
   if (shape < 4) {
     g.volume = world_box(e, box.min, box.max);
@@ -124,34 +140,47 @@ GenCase contact_ortho() {
   return g;
 }
 
-GenCase contact_perspective() {
-  // The touch family's contacts on its integer frustum, in any depth convention, with a finite or
-  // an infinite far plane, as planes or as the matrix. A sphere (the lateral planes' normals are
-  // not unit) becomes its bounding box, which keeps the contact with a near or far face.
+// A perspective frame: the touch family's integer frustum, in any depth convention, with a finite
+// or an infinite far plane, as planes or as the matrix.
+void perspective_frame(ContactFrame& cf) {
+  cf.ortho = false;
   const DepthConvention depth = any_depth();
   const bool infinite = coin(25), as_matrix = coin(50);
-  GenCase g = touch_case(false, [&](const ExactFrame& e) {
-    glm::mat4 p;
-    if (infinite) {
-      p = glm::mat4(0.0f);
-      p[0][0] = p[1][1] = 1.0f;  // 2n / (r - l) with r - l = 2n
-      p[2][2] = -1.0f;
-      p[2][3] = -1.0f;
-      p[3][2] = depth.range == DepthRange::negative_one_to_one ? -2.0f * e.n : -e.n;
-    } else {
-      p = depth.range == DepthRange::negative_one_to_one ? glm::frustumRH_NO(-e.n, e.n, -e.n, e.n, e.n, e.f)
-                                                         : glm::frustumRH_ZO(-e.n, e.n, -e.n, e.n, e.n, e.f);
-    }
-    if (depth.reversed_z) p = reverse_depth(p, depth.range);
-    CaseFrustum f = frustum_spec(p * view_of(e), depth);
-    if (!as_matrix) f.matrix.reset();
-    return f;
-  });
+  cf.e = exact_frame();
+  const ExactFrame& e = cf.e;
+  glm::mat4 p;
+  if (infinite) {
+    p = glm::mat4(0.0f);
+    p[0][0] = p[1][1] = 1.0f;  // 2n / (r - l) with r - l = 2n
+    p[2][2] = -1.0f;
+    p[2][3] = -1.0f;
+    p[3][2] = depth.range == DepthRange::negative_one_to_one ? -2.0f * e.n : -e.n;
+  } else {
+    p = depth.range == DepthRange::negative_one_to_one ? glm::frustumRH_NO(-e.n, e.n, -e.n, e.n, e.n, e.f)
+                                                       : glm::frustumRH_ZO(-e.n, e.n, -e.n, e.n, e.n, e.f);
+  }
+  if (depth.reversed_z) p = reverse_depth(p, depth.range);
+  cf.frustum = frustum_spec(p * view_of(e), depth);
+  if (!as_matrix) cf.frustum.matrix.reset();
+}
+
+// The touch family's contacts on a perspective frame. A sphere (the lateral planes' normals are
+// not unit) becomes its bounding box, which keeps the contact with a near or far face.
+GenCase perspective_volume(const ContactFrame& cf) {
+  GenCase g = touch_on(cf.e, false, [&] { return cf.frustum; });
   if (const Sphere* sp = std::get_if<Sphere>(&g.volume)) g.volume = Aabb{sp->center - sp->radius, sp->center + sp->radius};
   return g;
 }
 
-GenCase contact_case() { return coin(50) ? contact_ortho() : contact_perspective(); }
+ContactFrame contact_frame() {
+  ContactFrame cf;
+  if (coin(50)) ortho_frame(cf);
+  else perspective_frame(cf);
+  return cf;
+}
 
+GenCase contact_volume(const ContactFrame& cf) { return cf.ortho ? ortho_volume(cf) : perspective_volume(cf); }
+
+GenCase contact_case() { return contact_volume(contact_frame()); }
 
 }  // namespace cullproof::gen::detail

@@ -28,8 +28,8 @@ struct Entry {
   int hard_rank;     ///< its place in "all-hard" (1 first), 0: not a hard family
   bool overflows;    ///< float sums overflow on it: left out of the test helper's default
   GenCase (*make)(); ///< one case (its draws: blocks.hpp)
-  /// A generic camera and a volume about it (generic_case): drawn in frames of kFrameCases cases
-  /// that share the camera.
+  /// Drawn in frames of kFrameCases cases that share the frustum: a generic camera and a volume
+  /// about it (generic_case), or the contact family's frame and a volume touching it.
   bool framed = false;
 };
 
@@ -64,7 +64,7 @@ constexpr Entry kDistributions[] = {
     {Distribution::rod, "rod", "long thin boxes crossing the frustum with no corner inside", false, 9, false, rod_case},
     {Distribution::contact, "contact",
      "float-exact contact: flat boxes in a face, boxes, points and spheres touching faces, edges and corners", true, 0,
-     false, contact_case},
+     false, contact_case, true},
     {Distribution::camera_path, "camera-path",
      "a camera moving past fixed volumes (still, translating, turning, zooming), frame by frame", true, 0, false,
      camera_path_case},
@@ -195,26 +195,35 @@ std::uint64_t draw_key(std::uint64_t seed, Distribution d, std::uint64_t index) 
 // Frame cameras are drawn from a stream apart from the cases' volumes ("camera" in ASCII).
 constexpr std::uint64_t kCameraStream = 0x63616d657261ull;
 
-// A framed family's frame: its camera drawn from the frame's key, the frustum and the placement
-// its cases share.
+// A framed family's frame, drawn from the frame's key: the frustum and the placement its cases
+// share (a generic family's camera), or the contact family's frame.
 struct FrameCamera {
   CaseFrustum frustum;
   Placement placement;
+  ContactFrame contact;
 };
 
 FrameCamera frame_camera(Distribution d, std::uint64_t seed, std::uint64_t frame, std::vector<std::int64_t>* log) {
   FastDraw scope(draw_key(seed ^ kCameraStream, d, frame), log);
-  const Camera cam = generic_camera();
   FrameCamera out;
+  if (d == Distribution::contact) {
+    out.contact = contact_frame();
+    return out;
+  }
+  const Camera cam = generic_camera();
   out.placement = placement_for(cam);
   out.frustum = realize(cam);
   return out;
 }
 
-// A framed family's case `index` on its frame's camera: the volume drawn from the case's key.
+// A framed family's case `index` on its frame: the volume drawn from the case's key.
 void framed_case(Distribution d, std::uint64_t seed, std::uint64_t index, const FrameCamera& fc, GenCase& out,
                  std::vector<std::int64_t>* log) {
   FastDraw scope(draw_key(seed, d, index), log);
+  if (d == Distribution::contact) {
+    out = contact_volume(fc.contact);
+    return;
+  }
   out.frustum = fc.frustum;
   out.volume = generic_volume(d, fc.placement);
   out.scene_size = fc.placement.size;

@@ -50,6 +50,10 @@ float dyadic(float lo, float hi) {
 
 GenCase touch_case(bool nudge, const std::function<CaseFrustum(const ExactFrame&)>& frustum) {
   const ExactFrame e = exact_frame();
+  return touch_on(e, nudge, [&] { return frustum ? frustum(e) : exact_frustum(e, coin(30)); });
+}
+
+GenCase touch_on(const ExactFrame& e, bool nudge, const std::function<CaseFrustum()>& frustum) {
   const float n = e.n, f = e.f;
   const float h = dyadic(0.0625f, 0.5f) * n;
   glm::vec3 lo, hi;
@@ -102,7 +106,7 @@ GenCase touch_case(bool nudge, const std::function<CaseFrustum(const ExactFrame&
   if (nudge) *moved = std::nextafter(*moved, coin(50) ? std::numeric_limits<float>::infinity()
                                                      : -std::numeric_limits<float>::infinity());
   GenCase g;
-  g.frustum = frustum ? frustum(e) : exact_frustum(e, coin(30));
+  g.frustum = frustum();
   g.scene_size = 2.0 * f * std::sqrt(3.0);
   const Aabb box = world_box(e, lo, hi);
   const int shape = pick(10);

@@ -24,21 +24,52 @@
 // The ball meets P iff some projection lies in P within distance r of c (every such projection is
 // a common point; if none is, the nearest point of P, itself one of them, is farther than r).
 // Multiplying by det G > 0 and using adj(G) keeps everything in integers.
+//
+// Integer width: every decision runs first on 512-bit integers that check every operation for
+// overflow (no allocation); an operation that would overflow throws, and the decision runs again on
+// integers of unbounded width. Both compute the same exact values, so the verdict does not depend on
+// which one finished. Inputs whose values span a few dozen binades (exact contact, for one) stay
+// within 512 bits; wider spreads of exponents take the unbounded route.
 #include "exact_decide.hpp"
 
 #include <boost/multiprecision/cpp_int.hpp>
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdint>
-#include <vector>
+#include <cstring>
+#include <stdexcept>
 
 namespace cullproof::exact_detail {
 
 namespace {
 
-using Int = boost::multiprecision::cpp_int;
+namespace mp = boost::multiprecision;
+using Unbounded = mp::cpp_int;
+using Bounded = mp::number<mp::cpp_int_backend<512, 512, mp::signed_magnitude, mp::checked, void>, mp::et_off>;
+
+// A finite float exactly: m 2^e with m odd (or zero), |m| < 2^24, read from its bits.
+struct FloatBits {
+  std::int32_t m = 0;
+  int e = 0;
+};
+
+FloatBits float_bits(float x) noexcept {
+  std::uint32_t u = 0;
+  std::memcpy(&u, &x, sizeof u);
+  const std::uint32_t fraction = u & 0x7fffffu;
+  const int biased = int(u >> 23 & 0xffu);
+  if (biased == 0 && fraction == 0) return {};
+  std::uint32_t m = biased == 0 ? fraction : (fraction | 0x800000u);  // subnormal: no hidden bit
+  int e = biased == 0 ? -149 : biased - 150;
+  const int zeros = __builtin_ctz(m);                                  // keep the integer small
+  m >>= zeros;
+  e += zeros;
+  return {(u >> 31) ? -std::int32_t(m) : std::int32_t(m), e};
+}
+
+template <class Int>
+struct Exact {
 
 // An exact dyadic number m 2^e.
 struct Dyadic {
@@ -46,39 +77,44 @@ struct Dyadic {
   long e = 0;
 };
 
-Dyadic of(float x) {
+// m 2^k for k >= 0 (the shift of the magnitude: checked integers refuse bitwise operations on
+// negative values).
+static Int shl(const Int& m, long k) {
+  if (m.sign() >= 0) return m << static_cast<unsigned>(k);
+  Int r = -m;
+  r <<= static_cast<unsigned>(k);
+  return -r;
+}
+
+static Dyadic of(float x) {
+  const FloatBits b = float_bits(x);
   Dyadic r;
-  if (x == 0.0f) return r;
-  int ex = 0;
-  const float fr = std::frexp(x, &ex);                               // x = fr 2^ex, 1/2 <= |fr| < 1
-  auto mant = static_cast<std::int32_t>(std::ldexp(fr, 24));         // exact: at most 24 bits
-  int shift = 0;
-  while ((mant & 1) == 0) mant /= 2, ++shift;                        // keep the integer small
-  r.m = mant;
-  r.e = long(ex) - 24 + shift;
+  if (b.m == 0) return r;
+  r.m = b.m;
+  r.e = b.e;
   return r;
 }
 
-Dyadic add(const Dyadic& a, const Dyadic& b) {
+static Dyadic add(const Dyadic& a, const Dyadic& b) {
   if (a.m.is_zero()) return b;
   if (b.m.is_zero()) return a;
   Dyadic r;
   if (a.e <= b.e) {
-    r.m = a.m + (b.m << static_cast<unsigned>(b.e - a.e));
+    r.m = a.m + shl(b.m, b.e - a.e);
     r.e = a.e;
   } else {
-    r.m = b.m + (a.m << static_cast<unsigned>(a.e - b.e));
+    r.m = b.m + shl(a.m, a.e - b.e);
     r.e = b.e;
   }
   return r;
 }
 
-Dyadic neg(Dyadic a) {
+static Dyadic neg(Dyadic a) {
   a.m = -a.m;
   return a;
 }
 
-Dyadic mul(const Dyadic& a, const Dyadic& b) {
+static Dyadic mul(const Dyadic& a, const Dyadic& b) {
   Dyadic r;
   if (a.m.is_zero() || b.m.is_zero()) return r;
   r.m = a.m * b.m;
@@ -87,28 +123,28 @@ Dyadic mul(const Dyadic& a, const Dyadic& b) {
 }
 
 // Coefficient i of plane k, exactly: first + second.
-Dyadic coeff(const ExactCertifiedFrustum& f, int k, int i) {
+static Dyadic coeff(const ExactCertifiedFrustum& f, int k, int i) {
   return add(of(f.first[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)]),
              of(f.second[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)]));
 }
 
 // Values scaled by one common positive power of two to integers (a row keeps its half-space).
 template <std::size_t N>
-std::array<Int, N> integers(const std::array<Dyadic, N>& v) {
+static std::array<Int, N> integers(const std::array<Dyadic, N>& v) {
   long lo = 0;
   bool any = false;
   for (const Dyadic& x : v)
     if (!x.m.is_zero()) lo = any ? std::min(lo, x.e) : x.e, any = true;
   std::array<Int, N> out;
   for (std::size_t i = 0; i < N; ++i)
-    if (!v[i].m.is_zero()) out[i] = v[i].m << static_cast<unsigned>(v[i].e - lo);
+    if (!v[i].m.is_zero()) out[i] = shl(v[i].m, v[i].e - lo);
   return out;
 }
 
 using Row = std::array<Int, 4>;  // g(t) = r[0] + r[1] t_0 + r[2] t_1 + r[3] t_2
 
 // The constraint of plane k on the box's parameter t (scaled to integers).
-Row box_row(const ExactCertifiedFrustum& f, int k, BoxRef b) {
+static Row box_row(const ExactCertifiedFrustum& f, int k, BoxRef b) {
   std::array<Dyadic, 4> r;
   std::array<Dyadic, 3> n;
   for (int i = 0; i < 3; ++i) n[static_cast<std::size_t>(i)] = coeff(f, k, i);
@@ -136,9 +172,8 @@ Row box_row(const ExactCertifiedFrustum& f, int k, BoxRef b) {
   return integers(r);
 }
 
-// Whether some vertex of {t in [-1,1]^3 : rows(t) >= 0} exists.
-bool polytope_has_vertex(const std::vector<Row>& rows) {
-  const int m = static_cast<int>(rows.size());
+// Whether some vertex of {t in [-1,1]^3 : rows(t) >= 0} exists (rows 0 .. m - 1).
+static bool polytope_has_vertex(const std::array<Row, 6>& rows, int m) {
   // fixed: axes held at +-1 (bit i set), signs: +1 where bit i of `up` is set.
   // Candidates by the number k of rows that are active: 0 (corners), 1, 2, 3.
   std::array<Int, 3> num;
@@ -152,7 +187,7 @@ bool polytope_has_vertex(const std::vector<Row>& rows) {
       for (int i = 0; i < 3; ++i) (free_mask >> i & 1 ? free_axes[nf++] : fixed_axes[nx++]) = i;
       for (int signs = 0; signs < (1 << nx); ++signs) {
         // The value of each row with the fixed axes set: base_j = r_j0 + sum_fixed r_ji s_i.
-        std::vector<Int> base(static_cast<std::size_t>(m));
+        std::array<Int, 6> base;
         for (int j = 0; j < m; ++j) {
           Int v = rows[static_cast<std::size_t>(j)][0];
           for (int q = 0; q < nx; ++q) {
@@ -190,7 +225,7 @@ bool polytope_has_vertex(const std::vector<Row>& rows) {
             num[0] = B(0) * M(1, 1) - M(0, 1) * B(1);
             num[1] = M(0, 0) * B(1) - B(0) * M(1, 0);
           } else {
-            auto det3 = [&](auto&& e) {
+            auto det3 = [&](auto&& e) -> Int {
               return e(0, 0) * (e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1)) - e(0, 1) * (e(1, 0) * e(2, 2) - e(1, 2) * e(2, 0)) +
                      e(0, 2) * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0));
             };
@@ -226,12 +261,12 @@ bool polytope_has_vertex(const std::vector<Row>& rows) {
 
 // The sphere's data and the planes in integers, in units of 2^e_c (see the file comment).
 struct SphereInts {
-  std::vector<std::array<Int, 3>> n;
-  std::vector<Int> s;  // plane values at the centre
+  std::array<std::array<Int, 3>, 6> n;
+  std::array<Int, 6> s;  // plane values at the centre
   Int r2;
 };
 
-SphereInts sphere_ints(const ExactCertifiedFrustum& f, const int* planes, int count, const Sphere& sp) {
+static SphereInts sphere_ints(const ExactCertifiedFrustum& f, const int* planes, int count, const Sphere& sp) {
   // The centre and radius to integers at a common exponent e_c <= 0.
   std::array<Dyadic, 4> cr{of(sp.center.x), of(sp.center.y), of(sp.center.z), of(sp.radius)};
   long ec = 0;
@@ -240,9 +275,9 @@ SphereInts sphere_ints(const ExactCertifiedFrustum& f, const int* planes, int co
   std::array<Int, 3> C;
   for (int i = 0; i < 3; ++i)
     if (!cr[static_cast<std::size_t>(i)].m.is_zero())
-      C[static_cast<std::size_t>(i)] = cr[static_cast<std::size_t>(i)].m << static_cast<unsigned>(cr[static_cast<std::size_t>(i)].e - ec);
+      C[static_cast<std::size_t>(i)] = shl(cr[static_cast<std::size_t>(i)].m, cr[static_cast<std::size_t>(i)].e - ec);
   Int R;
-  if (!cr[3].m.is_zero()) R = cr[3].m << static_cast<unsigned>(cr[3].e - ec);
+  if (!cr[3].m.is_zero()) R = shl(cr[3].m, cr[3].e - ec);
   SphereInts out;
   out.r2 = R * R;
   for (int j = 0; j < count; ++j) {
@@ -251,33 +286,30 @@ SphereInts sphere_ints(const ExactCertifiedFrustum& f, const int* planes, int co
     for (int i = 0; i < 4; ++i) p[static_cast<std::size_t>(i)] = coeff(f, planes[j], i);
     if (!p[3].m.is_zero()) p[3].e -= ec;
     const std::array<Int, 4> q = integers(p);
-    out.n.push_back({q[0], q[1], q[2]});
-    out.s.push_back(q[0] * C[0] + q[1] * C[1] + q[2] * C[2] + q[3]);
+    out.n[static_cast<std::size_t>(j)] = {q[0], q[1], q[2]};
+    out.s[static_cast<std::size_t>(j)] = q[0] * C[0] + q[1] * C[1] + q[2] * C[2] + q[3];
   }
   return out;
 }
 
-}  // namespace
-
-bool box_in_plane(const ExactCertifiedFrustum& f, int k, BoxRef b) {
+static bool box_in_plane(const ExactCertifiedFrustum& f, int k, BoxRef b) {
   const Row r = box_row(f, k, b);
   return r[0] - abs(r[1]) - abs(r[2]) - abs(r[3]) >= 0;
 }
 
-bool box_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, BoxRef b) {
-  std::vector<Row> rows;
-  rows.reserve(static_cast<std::size_t>(count));
-  for (int j = 0; j < count; ++j) rows.push_back(box_row(f, planes[j], b));
-  return polytope_has_vertex(rows);
+static bool box_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, BoxRef b) {
+  std::array<Row, 6> rows;
+  for (int j = 0; j < count; ++j) rows[static_cast<std::size_t>(j)] = box_row(f, planes[j], b);
+  return polytope_has_vertex(rows, count);
 }
 
-bool sphere_in_plane(const ExactCertifiedFrustum& f, int k, const Sphere& s) {
+static bool sphere_in_plane(const ExactCertifiedFrustum& f, int k, const Sphere& s) {
   const SphereInts q = sphere_ints(f, &k, 1, s);
   const auto& n = q.n[0];
   return q.s[0] >= 0 && q.s[0] * q.s[0] >= q.r2 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, const Sphere& s) {
+static bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, const Sphere& s) {
   const SphereInts q = sphere_ints(f, planes, count, s);
   const int m = count;
   bool centre_in = true;
@@ -288,7 +320,7 @@ bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int 
     const auto& y = q.n[static_cast<std::size_t>(b)];
     return Int(x[0] * y[0] + x[1] * y[1] + x[2] * y[2]);
   };
-  std::vector<std::vector<Int>> G(static_cast<std::size_t>(m), std::vector<Int>(static_cast<std::size_t>(m)));
+  std::array<std::array<Int, 6>, 6> G;
   for (int a = 0; a < m; ++a)
     for (int b = a; b < m; ++b) G[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)] = G[static_cast<std::size_t>(b)][static_cast<std::size_t>(a)] = dot(a, b);
   auto g = [&](int a, int b) -> const Int& { return G[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)]; };
@@ -339,6 +371,36 @@ bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int 
         if (test(S, 3, D, mu)) return true;
       }
   return false;
+}
+
+};  // struct Exact
+
+// The decision on bounded integers, or on unbounded ones where a value outgrows them.
+template <class Decide>
+bool exactly(Decide&& decide) {
+  try {
+    return decide(Exact<Bounded>{});
+  } catch (const std::overflow_error&) {
+    return decide(Exact<Unbounded>{});
+  }
+}
+
+}  // namespace
+
+bool box_in_plane(const ExactCertifiedFrustum& f, int k, BoxRef b) {
+  return exactly([&](auto e) { return decltype(e)::box_in_plane(f, k, b); });
+}
+
+bool box_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, BoxRef b) {
+  return exactly([&](auto e) { return decltype(e)::box_meets_planes(f, planes, count, b); });
+}
+
+bool sphere_in_plane(const ExactCertifiedFrustum& f, int k, const Sphere& s) {
+  return exactly([&](auto e) { return decltype(e)::sphere_in_plane(f, k, s); });
+}
+
+bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, const Sphere& s) {
+  return exactly([&](auto e) { return decltype(e)::sphere_meets_planes(f, planes, count, s); });
 }
 
 }  // namespace cullproof::exact_detail

@@ -225,7 +225,7 @@ TEST(CameraPaths, AStateLeakingBetweenVolumesOfAFrameIsRefutedAndRecordedWithIts
 
 // The framed families' frames (gen::kFrameCases volumes about one camera) are classified in order
 // too: the same leak is found there and recorded with its frame, which replays; a family of one
-// case per frustum (contact) has no earlier volume to leak from.
+// case per frustum (touch) has no earlier volume to leak from.
 TEST(CameraPaths, AStateLeakingBetweenVolumesOfAFamilysFrameIsRecordedWithItsFrame) {
   const auto dir = temp_dir("leak-framed");
   VerifyOptions o = path_run(3000);
@@ -244,7 +244,7 @@ TEST(CameraPaths, AStateLeakingBetweenVolumesOfAFamilysFrameIsRecordedWithItsFra
   }
   EXPECT_GT(framed, 0);
   VerifyOptions single = path_run(3000);
-  single.distributions = {Distribution::contact};
+  single.distributions = {Distribution::touch};
   EXPECT_FALSE(run_verify(single, {m}).claim_broken());
   std::filesystem::remove_all(dir);
 }

@@ -107,10 +107,11 @@ rc::Gen<GenCase> exact_degenerate();
 rc::Gen<GenCase> any_case();
 
 /// The generic-camera families (uniform, near-boundary, corner, enclosing, tiny-huge, degenerate)
-/// come in frames, as an engine culls: cases [kFrameCases f, kFrameCases (f + 1)) share frame f's
-/// camera, and each draws its own volume about that camera's frustum. A case is drawn exactly as
-/// before (a generic camera, then a volume of the family about it); only cases of one frame share
-/// the camera. Every other family has one case per frustum.
+/// and contact come in frames, as an engine culls: cases [kFrameCases f, kFrameCases (f + 1))
+/// share frame f's frustum, and each draws its own volume against it. A case is drawn exactly as
+/// one alone would be (a generic camera, then a volume of the family about it; a contact frame,
+/// then a volume touching it); only cases of one frame share the frustum. Every other family has
+/// one case per frustum.
 constexpr std::size_t kFrameCases = 16;
 /// kFrameCases for a framed family, 1 for the others (cases_per_frame(camera_path) is 1: its
 /// frames are its paths', path_index).
