@@ -398,10 +398,10 @@ std::optional<ClosestPair> proven_closest_pair(const Planes& P, const detail::Bo
   for (const V3& v : verts) scale = std::max(scale, norm(v));
   const double gap = norm(sub(x, y));
   if (!(gap > 1e-12 * scale)) return std::nullopt;  // too near to tell the active planes apart
-  const double tol = 1e-9 * gap;
-
   // The constraints active at the pair: box bounds, and up to three planes of independent normals,
-  // nearest first.
+  // nearest first. The pair from double is accurate to a small fraction of the gap, its position
+  // along a face less so than its distance: the planes within a widening tolerance are tried in
+  // turn, each set solved and checked exactly (a wrong set is refused, never accepted).
   std::array<int, 3> fixed{};  // +1 or -1: t_i at that bound; 0: free; flat axes take t_i = 0
   for (int i = 0; i < 3; ++i)
     if (!flat[std::size_t(i)] && std::abs(t[std::size_t(i)]) >= 1.0 - 1e-9) fixed[std::size_t(i)] = t[std::size_t(i)] > 0 ? 1 : -1;
@@ -409,39 +409,45 @@ std::optional<ClosestPair> proven_closest_pair(const Planes& P, const detail::Bo
   for (std::size_t j = 0; j < pl.size(); ++j) {
     const double len = norm({pl[j][0], pl[j][1], pl[j][2]});
     const double s = (pl[j][0] * y[0] + pl[j][1] * y[1] + pl[j][2] * y[2] + pl[j][3]) / len;
-    if (std::abs(s) <= tol) near.push_back({std::abs(s), int(j)});
+    near.push_back({std::abs(s), int(j)});
   }
   std::sort(near.begin(), near.end());
-  std::vector<int> act;  // indices into P
-  std::vector<V3> act_n;
-  for (const auto& [s, j] : near) {
-    const V3 nj{pl[std::size_t(j)][0], pl[std::size_t(j)][1], pl[std::size_t(j)][2]};
-    bool independent = true;
-    if (act_n.size() == 1) independent = norm(cross(act_n[0], nj)) > 1e-9 * norm(act_n[0]) * norm(nj);
-    if (act_n.size() == 2) {
-      const V3 cr = cross(act_n[0], act_n[1]);
-      independent = std::abs(dot(cr, nj)) > 1e-9 * norm(cr) * norm(nj);
+  std::vector<int> tried;  // the previous tolerance's active set
+  for (const double relative : {1e-9, 1e-6, 1e-4}) {
+    const double tol = std::max(relative * gap, 1e-13 * scale);
+    std::vector<int> act;  // indices into P
+    std::vector<V3> act_n;
+    for (const auto& [s, j] : near) {
+      if (s > tol) break;
+      const V3 nj{pl[std::size_t(j)][0], pl[std::size_t(j)][1], pl[std::size_t(j)][2]};
+      bool independent = true;
+      if (act_n.size() == 1) independent = norm(cross(act_n[0], nj)) > 1e-9 * norm(act_n[0]) * norm(nj);
+      if (act_n.size() == 2) {
+        const V3 cr = cross(act_n[0], act_n[1]);
+        independent = std::abs(dot(cr, nj)) > 1e-9 * norm(cr) * norm(nj);
+      }
+      if (act_n.size() == 3) independent = false;
+      if (!independent) continue;
+      act.push_back(plane_of[std::size_t(j)]);
+      act_n.push_back(nj);
     }
-    if (act_n.size() == 3) independent = false;
-    if (!independent) continue;
-    act.push_back(plane_of[std::size_t(j)]);
-    act_n.push_back(nj);
-  }
-  if (act.empty()) return std::nullopt;
-
-  // Exactly: unknowns t_i (free i) and λ_l (active l). With x = c + Σ t_i e_i and
-  // y = x + Σ λ_l n_l: each active plane holds y (n_j·y + d_j = 0), and y - x is orthogonal to
-  // every free edge direction (e_i·(y - x) = 0). Where B and F have parallel features the pair is
-  // not unique and the system singular: a free t_i is then pinned at its value in double (exact as
-  // a rational; when that point is not optimal, the check refuses the candidate), one at a time.
-  std::array<int, 3> pinned{};
-  for (int attempt = 0; attempt < 4; ++attempt) {
-    if (auto out = solve_on(P, b, flat, fixed, pinned, t, act, want_point)) return out;
-    int next = -1;
-    for (int i = 0; i < 3 && next < 0; ++i)
-      if (!flat[std::size_t(i)] && fixed[std::size_t(i)] == 0 && !pinned[std::size_t(i)]) next = i;
-    if (next < 0) break;
-    pinned[std::size_t(next)] = 1;
+    if (act.empty() || act == tried) continue;
+    tried = act;
+    // Exactly: unknowns t_i (free i) and λ_l (active l). With x = c + Σ t_i e_i and
+    // y = x + Σ λ_l n_l: each active plane holds y (n_j·y + d_j = 0), and y - x is orthogonal to
+    // every free edge direction (e_i·(y - x) = 0). Where B and F have parallel features the pair is
+    // not unique and the system singular: a free t_i is then pinned at its value in double (exact
+    // as a rational; when that point is not optimal, the check refuses the candidate), one at a
+    // time.
+    std::array<int, 3> pinned{};
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      if (auto out = solve_on(P, b, flat, fixed, pinned, t, act, want_point)) return out;
+      int next = -1;
+      for (int i = 0; i < 3 && next < 0; ++i)
+        if (!flat[std::size_t(i)] && fixed[std::size_t(i)] == 0 && !pinned[std::size_t(i)]) next = i;
+      if (next < 0) break;
+      pinned[std::size_t(next)] = 1;
+    }
   }
   return std::nullopt;
 }

@@ -474,12 +474,15 @@ void build_combinations(ExactCertifiedFrustum& f) {
           add(S, lambda, dl, 3);
         }
     }
-  for (unsigned J = 0; J < 64; ++J) {
-    auto& words = f.comb_in[J];
-    words = {0, 0};
-    for (int q = 0; q < f.comb_count; ++q)
-      if ((support[q] & ~J) == 0) words[std::size_t(q / 64)] |= std::uint64_t(1) << (q % 64);
-  }
+  // comb_in[J] = the combinations whose support lies in J: each combination at its own support,
+  // then every set given what its subsets hold, one plane at a time (a sum over subsets).
+  for (auto& words : f.comb_in) words = {0, 0};
+  for (int q = 0; q < f.comb_count; ++q)
+    f.comb_in[support[q]][std::size_t(q / 64)] |= std::uint64_t(1) << (q % 64);
+  for (unsigned bit = 1; bit < 64; bit <<= 1)
+    for (unsigned J = 0; J < 64; ++J)
+      if (J & bit)
+        for (std::size_t w = 0; w < 2; ++w) f.comb_in[J][w] |= f.comb_in[J ^ bit][w];
   f.comb_complete = complete;
 }
 
