@@ -375,9 +375,12 @@ static bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* plane
 
 };  // struct Exact
 
-// The decision on bounded integers, or on unbounded ones where a value outgrows them.
+// The decision on bounded integers, or on unbounded ones where a value outgrows them (or on the
+// ones asked for alone).
 template <class Decide>
-bool exactly(Decide&& decide) {
+bool exactly(Width w, Decide&& decide) {
+  if (w == Width::unbounded) return decide(Exact<Unbounded>{});
+  if (w == Width::bounded) return decide(Exact<Bounded>{});
   try {
     return decide(Exact<Bounded>{});
   } catch (const std::overflow_error&) {
@@ -387,20 +390,20 @@ bool exactly(Decide&& decide) {
 
 }  // namespace
 
-bool box_in_plane(const ExactCertifiedFrustum& f, int k, BoxRef b) {
-  return exactly([&](auto e) { return decltype(e)::box_in_plane(f, k, b); });
+bool box_in_plane(const ExactCertifiedFrustum& f, int k, BoxRef b, Width w) {
+  return exactly(w, [&](auto e) { return decltype(e)::box_in_plane(f, k, b); });
 }
 
-bool box_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, BoxRef b) {
-  return exactly([&](auto e) { return decltype(e)::box_meets_planes(f, planes, count, b); });
+bool box_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, BoxRef b, Width w) {
+  return exactly(w, [&](auto e) { return decltype(e)::box_meets_planes(f, planes, count, b); });
 }
 
-bool sphere_in_plane(const ExactCertifiedFrustum& f, int k, const Sphere& s) {
-  return exactly([&](auto e) { return decltype(e)::sphere_in_plane(f, k, s); });
+bool sphere_in_plane(const ExactCertifiedFrustum& f, int k, const Sphere& s, Width w) {
+  return exactly(w, [&](auto e) { return decltype(e)::sphere_in_plane(f, k, s); });
 }
 
-bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, const Sphere& s) {
-  return exactly([&](auto e) { return decltype(e)::sphere_meets_planes(f, planes, count, s); });
+bool sphere_meets_planes(const ExactCertifiedFrustum& f, const int* planes, int count, const Sphere& s, Width w) {
+  return exactly(w, [&](auto e) { return decltype(e)::sphere_meets_planes(f, planes, count, s); });
 }
 
 }  // namespace cullproof::exact_detail
