@@ -213,6 +213,8 @@ class DistributionRun {
   std::uint64_t frame_end(std::uint64_t a) const {
     return std::min(drawn_, a + (per_frame_ - (first_ + a) % per_frame_));
   }
+  // The first of the run's cases in the frame of case i (a relative index).
+  std::uint64_t frame_start(std::uint64_t i) const { return i - std::min(i, (first_ + i) % per_frame_); }
 
   // The truth of every case, in parallel, and the verdicts of the methods that are not stateful
   // (off camera paths): frame by frame, as an engine culls, each method preparing the frame once
@@ -373,27 +375,38 @@ class DistributionRun {
     for (std::uint64_t i = 0; i < drawn_; ++i)
       if (erred(i)) erring_.push_back(i);
     measures_.assign(erring_.size(), ErrorMeasure{});
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, erring_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t e = r.begin(); e != r.end(); ++e) {
-        const std::uint64_t i = erring_[e];
-        const CaseOutcome& o = out_[i];
-        const GenCase c = case_at(i);
-        ErrorMeasure& m = measures_[e];
-        // The distance is reported for false intersects only (the table's FI distance).
-        bool false_intersect = false;
-        for (std::size_t k = 0; k < ms_.size() && o.truth == Visibility::outside && !false_intersect; ++k)
-          false_intersect = verdict(i, k) == std::int8_t(Visibility::intersecting);
-        if (false_intersect) m.distance = oracle::distance(c.frustum, c.volume, o.truth);
-        m.scale = gen::case_scale(c.frustum, c.volume);
-        m.scene_size = c.scene_size;
-        for (std::size_t k = 0; k < ms_.size(); ++k) {
-          const std::int8_t v = verdict(i, k);
-          if (v < 0 || m.verdict_distance[std::size_t(v)] != ErrorMeasure::kUnmeasured) continue;
-          if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way_on(o.kind)), o.float_exact))
-            m.verdict_distance[std::size_t(v)] = error_distance(c.frustum, c.volume, Visibility(v));
-        }
+    // The erring cases frame by frame: each frame's run from its first erring case to its last
+    // drawn once (its camera once).
+    std::vector<std::size_t> runs;  // where each frame's erring cases start in erring_
+    for (std::size_t e = 0; e < erring_.size(); ++e)
+      if (e == 0 || frame_start(erring_[e]) != frame_start(erring_[e - 1])) runs.push_back(e);
+    runs.push_back(erring_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs.size() - 1, 4), [&](const tbb::blocked_range<std::size_t>& r) {
+      std::vector<GenCase> cases;
+      for (std::size_t u = r.begin(); u != r.end(); ++u) {
+        const std::uint64_t a = erring_[runs[u]];
+        frame_cases(a, erring_[runs[u + 1] - 1] + 1, cases);
+        for (std::size_t e = runs[u]; e < runs[u + 1]; ++e) measure(erring_[e], cases[erring_[e] - a], measures_[e]);
       }
     });
+  }
+
+  // What the table and the claims need of erring case i (c).
+  void measure(std::uint64_t i, const GenCase& c, ErrorMeasure& m) const {
+    const CaseOutcome& o = out_[i];
+    // The distance is reported for false intersects only (the table's FI distance).
+    bool false_intersect = false;
+    for (std::size_t k = 0; k < ms_.size() && o.truth == Visibility::outside && !false_intersect; ++k)
+      false_intersect = verdict(i, k) == std::int8_t(Visibility::intersecting);
+    if (false_intersect) m.distance = oracle::distance(c.frustum, c.volume, o.truth);
+    m.scale = gen::case_scale(c.frustum, c.volume);
+    m.scene_size = c.scene_size;
+    for (std::size_t k = 0; k < ms_.size(); ++k) {
+      const std::int8_t v = verdict(i, k);
+      if (v < 0 || m.verdict_distance[std::size_t(v)] != ErrorMeasure::kUnmeasured) continue;
+      if (needs_distance(ms_[k].claim, error_class(Visibility(v), o.truth, ms_[k].three_way_on(o.kind)), o.float_exact))
+        m.verdict_distance[std::size_t(v)] = error_distance(c.frustum, c.volume, Visibility(v));
+    }
   }
 
   // The measures at position e of the erring cases (erring_ is in case order), which must be case
@@ -492,7 +505,7 @@ class DistributionRun {
   // Case i with its frame's volumes (a framed family's frame, clipped to the run), as a path of one
   // frame.
   PathCase frame_case_at(std::uint64_t i) const {
-    const std::uint64_t a = i - std::min(i, (first_ + i) % per_frame_), b = frame_end(a);
+    const std::uint64_t a = frame_start(i), b = frame_end(a);
     std::vector<GenCase> cases;
     frame_cases(a, b, cases);
     PathCase pc;

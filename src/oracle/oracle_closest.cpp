@@ -53,10 +53,11 @@ std::vector<V3> polytope_vertices(const std::vector<std::array<double, 4>>& pl, 
   std::vector<V3> out;
   bounded = m >= 4;
   std::vector<V3> n(m);
+  std::vector<double> length(m);
   double scale = 0.0;
   for (std::size_t j = 0; j < m; ++j) {
-    const double len = norm({pl[j][0], pl[j][1], pl[j][2]});
-    n[j] = {pl[j][0] / len, pl[j][1] / len, pl[j][2] / len};
+    length[j] = norm({pl[j][0], pl[j][1], pl[j][2]});
+    n[j] = {pl[j][0] / length[j], pl[j][1] / length[j], pl[j][2] / length[j]};
   }
   // Bounded iff no direction r != 0 has n_j·r >= 0 for every j; the recession cone's edges lie on
   // the lines n_a x n_b.
@@ -92,8 +93,8 @@ std::vector<V3> polytope_vertices(const std::vector<std::array<double, 4>>& pl, 
   for (const V3& v : out) {
     bool in = true;
     for (std::size_t j = 0; j < m && in; ++j)
-      in = (pl[j][0] * v[0] + pl[j][1] * v[1] + pl[j][2] * v[2] + pl[j][3]) /
-               norm({pl[j][0], pl[j][1], pl[j][2]}) >= -1e-9 * std::max(scale, 1e-300);
+      in = (pl[j][0] * v[0] + pl[j][1] * v[1] + pl[j][2] * v[2] + pl[j][3]) / length[j] >=
+           -1e-9 * std::max(scale, 1e-300);
     if (in) kept.push_back(v);
   }
   return kept;

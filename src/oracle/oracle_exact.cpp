@@ -98,8 +98,6 @@ std::optional<std::array<Q, 6>> kkt_multipliers(const std::array<detail::Coeffs<
 }  // namespace
 
 Closest closest_point_of_frustum(QCase& qc, const Planes& P, const std::array<ET, 3>& c) {
-  const std::array<Q, 3> cq{q_of(c[0]), q_of(c[1]), q_of(c[2])};
-  const auto& planes = qc.planes();
   // The pair found in double, when proven (the same conditions as the checks below).
   if (qc.guess) {
     detail::BoxT<ET> b;
@@ -114,6 +112,8 @@ Closest closest_point_of_frustum(QCase& qc, const Planes& P, const std::array<ET
       return out;
     }
   }
+  const std::array<Q, 3> cq{q_of(c[0]), q_of(c[1]), q_of(c[2])};
+  const auto& planes = qc.planes();
   Program qp(CGAL::LARGER, false, 0, false, 0);
   std::array<int, 6> row_plane{};
   int rows = 0;
