@@ -147,6 +147,13 @@ class Process {
     int in[2], out[2];
     if (::pipe(in) != 0 || ::pipe(out) != 0) throw std::runtime_error("external: cannot make pipes: " + std::string(std::strerror(errno)));
     std::signal(SIGPIPE, SIG_IGN);
+    // Everything the child needs is made before fork(): between fork and exec it only calls the
+    // system (another thread may hold the allocator's lock at the fork, which the child would wait
+    // on forever).
+    std::vector<char*> argv;
+    for (std::string& a : opt_.command) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string cannot_run = "external: cannot run '" + opt_.command.at(0) + "': ";
     pid_ = ::fork();
     if (pid_ < 0) throw std::runtime_error("external: cannot fork: " + std::string(std::strerror(errno)));
     if (pid_ == 0) {
@@ -156,11 +163,11 @@ class Process {
       ::dup2(in[0], 0);
       ::dup2(out[1], 1);
       ::close(in[0]), ::close(in[1]), ::close(out[0]), ::close(out[1]);
-      std::vector<char*> argv;
-      for (std::string& a : opt_.command) argv.push_back(a.data());
-      argv.push_back(nullptr);
       ::execvp(argv[0], argv.data());
-      std::fprintf(stderr, "external: cannot run '%s': %s\n", argv[0], std::strerror(errno));
+      const char* why = ::strerrordesc_np(errno);  // a constant text: no locale, no allocation
+      (void)!::write(2, cannot_run.data(), cannot_run.size());
+      if (why) (void)!::write(2, why, std::strlen(why));
+      (void)!::write(2, "\n", 1);
       ::_exit(127);
     }
     ::close(in[0]);
