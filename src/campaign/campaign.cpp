@@ -86,8 +86,24 @@ class DistributionRun {
     }
     const bool timing = opt_.timing && !interrupted;
     const auto frames = timing ? timing_frames() : std::map<unsigned, std::vector<KindedFrame>>{};
+    // Counting a method's errors and shrinking them ask that method alone: methods in parallel,
+    // each on one thread (as a stateful method's contract asks). Writing a record asks every method
+    // for its verdict: one record at a time, in method order, so the corpus is the same on any
+    // number of threads.
+    std::vector<MethodStats> stats(ms_.size());
+    std::vector<std::vector<Pending>> pending(ms_.size());
+    std::vector<std::vector<Shrunk>> shrunk(ms_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ms_.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                          stats[k] = tally(k, pending[k]);
+                          shrunk[k] = shrink_errors(k, pending[k], stats[k]);
+                        }
+                      },
+                      tbb::simple_partitioner());
     for (std::size_t k = 0; k < ms_.size(); ++k) {
-      MethodStats s = tally(k);
+      MethodStats& s = stats[k];
+      for (std::size_t j = 0; j < pending[k].size(); ++j) write_record(k, pending[k][j], shrunk[k][j], s);
       if (faults[k]) s.fault = std::move(faults[k]);
       dr.methods.push_back(std::move(s));
     }
@@ -436,8 +452,25 @@ class DistributionRun {
     return me.verdict_distance[std::size_t(verdict(i, k))];
   }
 
-  // Method k's counts over the cases, and its errors recorded in the corpus.
-  MethodStats tally(std::size_t k) {
+  // One of method k's errors to record in the corpus: case i, its class, whether it breaks the
+  // claim.
+  struct Pending {
+    std::uint64_t i;
+    ErrorClass cls;
+    bool violation;
+  };
+  // What recording it takes: the corpus's record of it already (held), or the case shrunk from it
+  // (with the camera path or frame it needs) and the method's verdict there (nullopt: none, or a
+  // fault, which is the method's MethodStats::fault).
+  struct Shrunk {
+    std::optional<CorpusRecord> held;
+    GenCase small;
+    std::optional<PathCase> path;
+    Answer verdict;
+  };
+
+  // Method k's counts over the cases, and the errors of it to record in the corpus (`pending`).
+  MethodStats tally(std::size_t k, std::vector<Pending>& pending) {
     const Method& m = ms_[k];
     MethodStats s;
     s.method = m.name;
@@ -487,7 +520,7 @@ class DistributionRun {
         violating[cls].push_back({std::isfinite(judged) && allowance > 0.0 ? judged / allowance : kUnbounded, i});
       } else if (opt_.corpus && written[cls] < opt_.corpus_per_class) {
         ++written[cls];
-        record(k, i, cls, false, s);
+        pending.push_back({i, cls, false});
       }
     }
     // Up to kViolationsPerClass claim violations per (method, distribution, class): those farthest
@@ -497,7 +530,7 @@ class DistributionRun {
     if (opt_.corpus)
       for (auto& [cls, v] : violating) {
         std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-        for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j) record(k, v[j].second, cls, true, s);
+        for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j) pending.push_back({v[j].second, cls, true});
       }
     return s;
   }
@@ -516,49 +549,67 @@ class DistributionRun {
     return pc;
   }
 
-  // Shrinks method k's error on case i and writes it to the corpus. On a camera path, an error that
-  // needs what came before (earlier frames for a stateful method, the frame's earlier objects for
-  // any) is kept with its path; so is an error on a framed family's case that needs the frame's
+  // Method k's errors to record, each shrunk unless the corpus holds its record already
+  // (CorpusSources: the same seed, case and class, still reproducing). On a camera path, an error
+  // that needs what came before (earlier frames for a stateful method, the frame's earlier objects
+  // for any) is kept with its path; so is an error on a framed family's case that needs the frame's
   // earlier volumes.
-  void record(std::size_t k, std::uint64_t i, ErrorClass cls, bool violation, MethodStats& s) {
+  std::vector<Shrunk> shrink_errors(std::size_t k, const std::vector<Pending>& pending, MethodStats& s) const {
+    std::vector<Shrunk> out(pending.size());
+    if (pending.empty()) return out;
     const Method& m = ms_[k];
-    const Visibility t = out_[i].truth;
-    const GenCase c = case_at(i);
-    auto alone_shows_it = [&] {
-      try {
-        const Answer a = run_method(m, c);
-        return a && error_class(*a, t, m.three_way_on(c.volume)) == cls;
-      } catch (const std::exception&) {
-        return false;
+    const CorpusSources sources(*opt_.corpus, m.name, d_);
+    for (std::size_t j = 0; j < pending.size(); ++j) {
+      const auto [i, cls, violation] = pending[j];
+      Shrunk& r = out[j];
+      r.held = sources.held(m, opt_.seed, first_ + i, cls);
+      if (r.held) continue;
+      const Visibility t = out_[i].truth;
+      const GenCase c = case_at(i);
+      auto alone_shows_it = [&] {
+        try {
+          const Answer a = run_method(m, c);
+          return a && error_class(*a, t, m.three_way_on(c.volume)) == cls;
+        } catch (const std::exception&) {
+          return false;
+        }
+      };
+      const bool framed = !on_paths_ && per_frame_ > 1 && !m.stateful;
+      if ((on_paths_ && (m.stateful || !alone_shows_it())) || (framed && !alone_shows_it())) {
+        PathCase pc = on_paths_ ? path_case_at(first_ + i) : frame_case_at(i);
+        if (!m.stateful) pc.frames = {pc.frames.back()};
+        r.path = shrink_path(std::move(pc), m, cls, t, opt_.shrink_budget);
+        r.small = c;
+      } else {
+        r.small = shrink(d_, opt_.seed, first_ + i, m, cls, violation, opt_.shrink_budget);
       }
-    };
-    std::optional<PathCase> path;
-    GenCase small;
-    const bool framed = !on_paths_ && per_frame_ > 1 && !m.stateful;
-    if ((on_paths_ && (m.stateful || !alone_shows_it())) || (framed && !alone_shows_it())) {
-      PathCase pc = on_paths_ ? path_case_at(first_ + i) : frame_case_at(i);
-      if (!m.stateful) pc.frames = {pc.frames.back()};
-      path = shrink_path(std::move(pc), m, cls, t, opt_.shrink_budget);
-      small = c;
+      try {
+        r.verdict = r.path ? checked_classify_path(m, *r.path) : run_method(m, r.small);
+      } catch (const std::exception& e) {
+        // The case shrunk from case i makes the method fault: that case is the fault's.
+        r.verdict.reset();
+        if (!s.fault)
+          s.fault = make_fault(opt_, m, d_, first_ + i, r.small,
+                               fmt::format("{} (on the case shrunk from case {})", e.what(), first_ + i),
+                               r.path ? &*r.path : nullptr);
+      }
+    }
+    return out;
+  }
+
+  // Writes method k's shrunk error to the corpus (unless held there already) and counts it.
+  void write_record(std::size_t k, const Pending& p, const Shrunk& r, MethodStats& s) const {
+    CorpusRecord rec;
+    if (r.held) {
+      rec = *r.held;
     } else {
-      small = shrink(gen::draw(d_, opt_.seed, first_ + i), m, cls, violation, opt_.shrink_budget);
+      if (!r.verdict) return;
+      rec = write_corpus_case(*opt_.corpus, r.small, ms_[k], *r.verdict, d_, opt_.seed, first_ + p.i, ms_,
+                              r.path ? &*r.path : nullptr);
     }
-    Answer vs;
-    try {
-      vs = path ? checked_classify_path(m, *path) : run_method(m, small);
-    } catch (const std::exception& e) {
-      // The case shrunk from case i makes the method fault: that case is the fault's.
-      if (!s.fault)
-        s.fault = make_fault(opt_, m, d_, first_ + i, small,
-                             fmt::format("{} (on the case shrunk from case {})", e.what(), first_ + i), path ? &*path : nullptr);
-      return;
-    }
-    if (!vs) return;
-    const CorpusRecord rec =
-        write_corpus_case(*opt_.corpus, small, m, *vs, d_, opt_.seed, first_ + i, ms_, path ? &*path : nullptr);
     if (rec.written) s.corpus_written.push_back(rec.id);
     // Evidence of a counted violation that the shrunk case still shows (shrinking keeps it).
-    if (violation && rec.violates &&
+    if (p.violation && rec.violates &&
         std::find(s.violation_ids.begin(), s.violation_ids.end(), rec.id) == s.violation_ids.end())
       s.violation_ids.push_back(rec.id);
   }

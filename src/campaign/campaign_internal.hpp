@@ -28,10 +28,12 @@ using gen::GenCase;
 
 // ---- Shrinking (shrink.cpp)
 
-/// The simplest case of the Shrinkable tree on which `m` still makes an error of class `cls`
-/// (and, for a claim violation, still violates the claim, by as many allowances as the error
-/// found, up to 1,000), within `budget` steps.
-GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, bool violation, int budget);
+/// The simplest case of the Shrinkable tree of case `index` of distribution d (gen::draw) on which
+/// `m` still makes an error of class `cls` (and, for a claim violation, still violates the claim,
+/// by as many allowances as the error found, up to 1,000), within `budget` steps. Safe to call
+/// from several threads (for different methods, or methods that may run concurrently).
+GenCase shrink(gen::Distribution d, std::uint64_t seed, std::uint64_t index, const Method& m, ErrorClass cls, bool violation,
+               int budget);
 
 /// A stateful method's error on a camera path: the object alone if the error stays without the
 /// others, then the fewest frames before the one judged that keep it (the case judged, and so its

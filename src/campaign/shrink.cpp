@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <mutex>
 
 namespace cullproof::detail {
 
@@ -32,17 +33,43 @@ Judged judge(const GenCase& c, const Method& m, ErrorClass cls, Visibility verdi
 
 }  // namespace
 
-GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, ErrorClass cls, bool violation, int budget) {
+GenCase shrink(gen::Distribution d, std::uint64_t seed, std::uint64_t index, const Method& m, ErrorClass cls, bool violation,
+               int budget) {
+  // RapidCheck keeps its generation state process-wide, not per thread: its shrinkable trees are
+  // made, walked and destroyed under this lock (declared first, so released last), and only the
+  // candidates, plain values, are judged outside it, where threads shrinking different methods'
+  // errors overlap.
+  static std::mutex rapidcheck;
+  std::unique_lock<std::mutex> lock(rapidcheck);
+  rc::Shrinkable<gen::GenCase> cur = gen::draw(d, seed, index);
   // A claim violation shrinks only to claim violations that stay as far beyond the allowance as the
   // error found was, up to kKeptAllowances of it: simpler numbers, not a smaller error, so that a
   // shrunk case of a gross bug never reads as rounding noise.
   constexpr double kKeptAllowances = 1000.0;
   double keep = 0.0;
   if (violation) {
-    const GenCase& c = start.value();
+    const GenCase c = cur.value();
+    lock.unlock();
     if (const auto v = run_method(m, c)) keep = std::min(judge(c, m, cls, *v).allowances, kKeptAllowances);
+    lock.lock();
   }
-  rc::Shrinkable<gen::GenCase> cur = start;
+  // Whether the candidate c keeps the error (judged as the run judges it: beyond the allowance,
+  // its distance from the verdict given, and by as many allowances as `keep`).
+  auto keeps_error = [&](const GenCase& c) {
+    try {
+      validate(c.volume);
+      const auto v = run_method(m, c);
+      if (!v) return false;
+      if (error_class(*v, oracle::truth(c.frustum, c.volume), m.three_way_on(c.volume)) != cls) return false;
+      if (violation) {
+        const Judged j = judge(c, m, cls, *v);
+        if (!j.violates || j.allowances < keep) return false;
+      }
+      return true;
+    } catch (const std::exception&) {
+      return false;  // an invalid shrink (e.g. a degenerate axis): not a candidate
+    }
+  };
   bool progress = true;
   while (progress && budget > 0) {
     progress = false;
@@ -50,24 +77,13 @@ GenCase shrink(const rc::Shrinkable<gen::GenCase>& start, const Method& m, Error
     while (auto next = seq.next()) {
       if (--budget <= 0) break;
       const GenCase c = next->value();
-      try {
-        validate(c.volume);
-        const auto v = run_method(m, c);
-        if (!v) continue;
-        if (error_class(*v, oracle::truth(c.frustum, c.volume), m.three_way_on(c.volume)) != cls) continue;
-        // Judged as the run judges it: beyond the allowance (its distance from the verdict given),
-        // and by as many allowances as `keep`.
-        if (violation) {
-          const Judged j = judge(c, m, cls, *v);
-          if (!j.violates || j.allowances < keep) continue;
-        }
-        {
-          cur = *next;
-          progress = true;
-          break;
-        }
-      } catch (const std::exception&) {
-        continue;  // an invalid shrink (e.g. a degenerate axis): not a candidate
+      lock.unlock();
+      const bool keeps = keeps_error(c);
+      lock.lock();
+      if (keeps) {
+        cur = *next;
+        progress = true;
+        break;
       }
     }
   }

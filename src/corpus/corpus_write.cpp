@@ -94,5 +94,48 @@ CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& 
   return {c.id, true, violates};
 }
 
+CorpusSources::CorpusSources(const std::filesystem::path& dir, const std::string& method, gen::Distribution d) {
+  const std::filesystem::path sub = dir / method / gen::to_string(d);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(sub, ec)) return;
+  std::vector<std::filesystem::path> files;
+  for (const auto& f : std::filesystem::directory_iterator(sub, ec))
+    if (f.is_regular_file() && f.path().extension() == ".json") files.push_back(f.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) {
+    try {
+      CorpusEntry e = corpus_entry(read_case_file(f), f);
+      if (e.method == method && e.distribution == gen::to_string(d)) entries_.push_back(std::move(e));
+    } catch (const std::exception&) {
+      // Not a readable record: no source of any error (see the class's contract).
+    }
+  }
+}
+
+std::optional<CorpusRecord> CorpusSources::held(const Method& m, std::uint64_t seed, std::uint64_t index,
+                                                 ErrorClass cls) const {
+  auto number = [](const nlohmann::json& x, const char* key) -> std::optional<std::uint64_t> {
+    const auto it = x.find(key);
+    if (it == x.end() || !it->is_number_unsigned()) return std::nullopt;
+    return it->get<std::uint64_t>();
+  };
+  for (const CorpusEntry& e : entries_) {
+    if (e.error != cls || number(e.c.extra, "seed") != seed || number(e.c.extra, "index") != index) continue;
+    Answer now;
+    try {
+      now = e.path ? checked_classify_path(m, *e.path) : checked_classify(m, e.c.frustum, e.c.volume);
+    } catch (const std::exception&) {
+      continue;  // the fault is the run's to find, on the case shrunk again
+    }
+    if (!now || *now != e.verdict) continue;
+    const oracle::VerdictDistance vd = oracle::distance_to_verdict(e.c.frustum, e.c.volume, e.verdict);
+    if (vd.truth != *e.c.truth || error_class(e.verdict, vd.truth, m.three_way_on(e.c.volume)) != cls) continue;
+    const double scale = gen::case_scale(e.c.frustum, e.c.volume);
+    const bool exact_case = gen::float_exact(e.c.frustum, e.c.volume);
+    return CorpusRecord{e.c.id, false, violates_claim(m.claim, cls, vd.distance, m.tolerance, scale, exact_case)};
+  }
+  return std::nullopt;
+}
+
 
 }  // namespace cullproof::detail

@@ -14,6 +14,9 @@
 
 #include <atomic>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -174,6 +177,82 @@ TEST(MethodInterface, APlantedBugIsRefutedFailsTheRunAndIsWrittenToTheCorpus) {
     EXPECT_TRUE(rr.reproduces) << e.file;
   }
   std::filesystem::remove_all(dir);
+}
+
+// Every file under dir: its path relative to dir and its text.
+std::map<std::string, std::string> files_under(const std::filesystem::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& f : std::filesystem::recursive_directory_iterator(dir))
+    if (f.is_regular_file()) {
+      std::ifstream in(f.path(), std::ios::binary);
+      out[std::filesystem::relative(f.path(), dir).string()] =
+          std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+  return out;
+}
+
+TEST(MethodInterface, AnErrorTheCorpusHoldsIsNotShrunkAgainAndThreadsWriteTheSameCorpus) {
+  // The planted bug, counting the volumes the campaign asks it about.
+  std::atomic<std::uint64_t> calls{0};
+  MethodInfo info;
+  info.name = "user-pn-bug";
+  info.claim = Claim::conservative;
+  info.tolerance = 1e-6;
+  const Method m = make_method(
+      info, [](const CaseFrustum& f) { return UserPlanes{f.planes}; },
+      [&calls](const UserPlanes& s, const Aabb& b) {
+        calls.fetch_add(1, std::memory_order_relaxed);
+        return user_pn(s, b, true);
+      });
+  VerifyOptions o = small_run(1500);
+  o.threads = 1;
+  run_verify(o, {m});
+  const std::uint64_t judging = calls.exchange(0);  // without a corpus: judging only
+
+  const auto one = temp_dir("held-1"), two = temp_dir("held-2");
+  o.corpus = one;
+  run_verify(o, {m});
+  const std::uint64_t recording = calls.exchange(0) - judging;
+  o.corpus = two;
+  o.threads = 2;
+  const VerifyResult first = run_verify(o, {m});
+  calls.exchange(0);
+  const auto written = files_under(two);
+  ASSERT_FALSE(written.empty());
+  EXPECT_EQ(files_under(one), written) << "one thread and two write the same records";
+
+  // Again over the same corpus: each error's record is found by its source case and replayed
+  // once; nothing is shrunk or written, and the same records are the run's evidence.
+  const VerifyResult again = run_verify(o, {m});
+  const std::uint64_t held = calls.exchange(0) - judging;
+  std::size_t records = 0;
+  for (std::size_t d = 0; d < again.distributions.size(); ++d) {
+    const MethodStats& a = first.distributions[d].methods[0];
+    const MethodStats& b = again.distributions[d].methods[0];
+    EXPECT_TRUE(b.corpus_written.empty());
+    EXPECT_EQ(b.violation_ids, a.violation_ids);
+    records += a.corpus_written.size();
+  }
+  EXPECT_GT(records, 0u);
+  EXPECT_LE(held, records) << "one replay per record held (recording the first time asked " << recording << ")";
+  EXPECT_GT(recording, 20 * records) << "shrinking asks the method many times per record";
+  EXPECT_EQ(files_under(two), written);
+
+  // A record the method no longer gives (its verdict edited) is not held: that error is shrunk
+  // again, to the same geometry, so the file is not written twice.
+  const std::vector<CorpusEntry> entries = load_corpus(two);
+  const CorpusEntry& e = entries.front();
+  const gen::Distribution d = gen::parse_distributions(e.distribution).at(0);
+  const std::uint64_t seed = e.c.extra.at("seed"), index = e.c.extra.at("index");
+  const detail::CorpusSources sources(two, m.name, d);
+  EXPECT_TRUE(sources.held(m, seed, index, e.error).has_value());
+  EXPECT_FALSE(sources.held(m, seed + 1, index, e.error).has_value()) << "another seed's case";
+  Case edited = e.c;
+  edited.extra["verdict"] = e.verdict == V::outside ? "inside" : "outside";
+  write_case_file(e.file, edited, true);
+  EXPECT_FALSE(detail::CorpusSources(two, m.name, d).held(m, seed, index, e.error).has_value());
+  std::filesystem::remove_all(one);
+  std::filesystem::remove_all(two);
 }
 
 void expect_fault(const Method& m, const std::string& says, std::vector<gen::Distribution> families = {}) {

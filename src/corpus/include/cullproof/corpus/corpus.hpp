@@ -121,6 +121,25 @@ CorpusRecord write_corpus_case(const std::filesystem::path& dir, const gen::GenC
                                gen::Distribution d, std::uint64_t seed, std::uint64_t index,
                                const std::vector<Method>& all, const PathCase* path = nullptr);
 
+/// The records of one method's errors on one distribution (dir/<method>/<distribution>/), found by
+/// the case each was shrunk from: its "seed", "index" and "class". The campaign asks it before
+/// shrinking an error, so that an error the corpus records already is not shrunk again on every
+/// run. A file that cannot be read as a record is no source of any error here (the campaign then
+/// shrinks and writes as if it were absent; `cullproof corpus` reports such a file).
+class CorpusSources {
+ public:
+  CorpusSources(const std::filesystem::path& dir, const std::string& method, gen::Distribution d);
+  /// The record of m's error of class `cls` on case `index` drawn from `seed`, if one is held
+  /// whose truth the oracle still gives and on whose case (or camera path) m still gives the
+  /// recorded verdict; its id, written = false and whether it breaks m's claim as judged now.
+  std::optional<CorpusRecord> held(const Method& m, std::uint64_t seed, std::uint64_t index, ErrorClass cls) const;
+  /// How many records were read.
+  std::size_t size() const noexcept { return entries_.size(); }
+
+ private:
+  std::vector<CorpusEntry> entries_;
+};
+
 }  // namespace detail
 
 }  // namespace cullproof
