@@ -14,9 +14,11 @@
 // BM_Campaign/<set>/<threads>: run_verify over cases of `uniform`, no timing, no corpus, no
 //   progress; set 0: one method (`pn-vertex`), 200,000 cases; set 1: every built-in method,
 //   20,000 cases; items = cases.
-// BM_CampaignProtocol/<jobs>: the same run of the reference adapter (the n/p-vertex test behind the
-//   process protocol, tests/protocol/reference_adapter.cpp) with <jobs> copies, 2 threads, 200,000
-//   cases (BM_Campaign/0/2 is the same run in process); only built when the tests are.
+// BM_CampaignProtocol/<jobs>/<binary>: the same run of the reference adapter (the n/p-vertex test
+//   behind the process protocol, tests/protocol/reference_adapter.cpp) with <jobs> copies, 2
+//   threads, 200,000 cases, in JSON Lines (binary 0) or in the binary encoding (binary 1: a chunk's
+//   frames in one message); BM_Campaign/0/2 is the same run in process. Only built when the tests
+//   are.
 // Counters: cases_per_second (items_per_second) in every run.
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/oracle/oracle.hpp"
@@ -97,13 +99,14 @@ BENCHMARK(BM_Campaign)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisec
 void BM_CampaignProtocol(benchmark::State& state) {
   ExternalOptions e;
   e.command = {CULLPROOF_REFERENCE_ADAPTER};
+  if (state.range(1)) e.command.push_back("binary");
   e.instances = int(state.range(0));
   const std::vector<Method> methods = external_methods(e);
   const VerifyOptions o = run_options(2, kOneMethodCases);
   for (auto _ : state) benchmark::DoNotOptimize(run_verify(o, methods));
   state.SetItemsProcessed(state.iterations() * std::int64_t(o.cases));
 }
-BENCHMARK(BM_CampaignProtocol)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_CampaignProtocol)->ArgsProduct({{1, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 #endif
 
 }  // namespace

@@ -238,13 +238,22 @@ class DistributionRun {
   void run_case_by_case() {
     std::vector<std::uint64_t> starts;  // of the frames
     for (std::uint64_t a = 0; a < drawn_; a = frame_end(a)) starts.push_back(a);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, starts.size(), std::max<std::size_t>(1, 64 / per_frame_)),
+    // A method that answers many frames in one call (a program's binary messages) is asked about
+    // a chunk's frames together: chunks of about kFramesChunk cases then.
+    std::vector<std::size_t> together;
+    for (std::size_t k = 0; k < ms_.size(); ++k)
+      if (!ms_[k].stateful && ms_[k].has_frames()) together.push_back(k);
+    constexpr std::uint64_t kChunk = 64, kFramesChunk = 1024;
+    const std::size_t grain = std::max<std::uint64_t>(1, (together.empty() ? kChunk : kFramesChunk) / per_frame_);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, starts.size(), grain),
                       [&](const tbb::blocked_range<std::size_t>& r) {
       if (stopped()) return;
       std::uint64_t judged = 0;
       std::vector<GenCase> cases;
       std::vector<CaseFrustum> frame(1);
       std::vector<Volume> volumes;
+      thread_local ChunkFrames chunk;  // kept: its arrays are reused chunk after chunk
+      chunk.clear();
       for (std::size_t u = r.begin(); u != r.end(); ++u) {
         const std::uint64_t a = starts[u], b = frame_end(a);
         frame_cases(a, b, cases);
@@ -262,10 +271,62 @@ class DistributionRun {
         volumes.clear();
         for (const GenCase& c : cases) volumes.push_back(c.volume);
         for (std::size_t k = 0; k < ms_.size(); ++k)
-          if (!ms_[k].stateful) run_frame(a, b, k, cases, frame, volumes);
+          if (!ms_[k].stateful && !ms_[k].has_frames()) run_frame(a, b, k, cases, frame, volumes);
+        if (!together.empty()) chunk.add(a, b, cases);
       }
+      for (std::size_t k : together) run_chunk(k, chunk);
       progress_.add(judged);
     });
+  }
+
+  // The frames of a chunk of cases, kept for the methods asked about them together: each frame's
+  // frustum and the chunk's volumes, frame after frame.
+  struct ChunkFrames {
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> bounds;  // [a, b) of each frame
+    std::vector<CaseFrustum> frusta;
+    std::vector<Volume> volumes;
+    void clear() {
+      bounds.clear();
+      frusta.clear();
+      volumes.clear();
+    }
+    void add(std::uint64_t a, std::uint64_t b, const std::vector<GenCase>& c) {
+      bounds.emplace_back(a, b);
+      frusta.push_back(c[0].frustum);
+      for (const GenCase& g : c) volumes.push_back(g.volume);
+    }
+  };
+
+  // Method k on a chunk's frames in one call (Method::classify_frames). Where it faults, the
+  // frames are asked one by one (run_frame, each frame's cases drawn again), so that the fault is
+  // charged to the case that makes it, as ever.
+  void run_chunk(std::size_t k, const ChunkFrames& chunk) {
+    if (chunk.bounds.empty() || !asks(k, first_ + chunk.bounds.front().first)) return;
+    std::vector<FrameRequest> frames(chunk.bounds.size());
+    for (std::size_t j = 0, at = 0; j < frames.size(); ++j) {
+      const std::size_t n = chunk.bounds[j].second - chunk.bounds[j].first;
+      frames[j] = FrameRequest{&chunk.frusta[j], chunk.volumes.data() + at, n};
+      at += n;
+    }
+    std::vector<Answer> answers;
+    try {
+      detail::run_frames(ms_[k], frames, answers);
+    } catch (const std::exception&) {
+      std::vector<GenCase> cases;
+      std::vector<CaseFrustum> frame(1);
+      for (std::size_t j = 0; j < frames.size(); ++j) {
+        const auto [a, b] = chunk.bounds[j];
+        frame_cases(a, b, cases);
+        frame[0] = cases[0].frustum;
+        const std::vector<Volume> volumes(frames[j].volumes, frames[j].volumes + frames[j].count);
+        run_frame(a, b, k, cases, frame, volumes);
+      }
+      return;
+    }
+    std::size_t at = 0;
+    for (const auto& [a, b] : chunk.bounds)
+      for (std::uint64_t i = a; i < b; ++i, ++at)
+        if (asks(k, first_ + i)) verdict(i, k) = verdict_code(answers[at]);
   }
 
   // Method k on the frame of cases [a, b) (`cases`; `frame` their frustum, `volumes` theirs): one

@@ -135,6 +135,58 @@ void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size
   }
 }
 
+void run_frames(const Method& m, const std::vector<FrameRequest>& frames, std::vector<Answer>& answers) {
+  // The volumes it takes, frame by frame and within a frame kind by kind (where each came from in
+  // `at`), asked as frames of one kind each.
+  std::size_t total = 0;
+  bool as_given = true;  // every volume taken, each frame's kinds in order: asked as they are
+  for (const FrameRequest& f : frames) {
+    total += f.count;
+    for (std::size_t i = 0; i < f.count && as_given; ++i)
+      as_given = m.takes(f.volumes[i]) && (i == 0 || f.volumes[i].index() >= f.volumes[i - 1].index());
+  }
+  if (as_given) {
+    answers.assign(total, Answer{});
+    if (total == 0) return;
+    call_method(m, " on frames", [&] { m.classify_frames(frames.data(), frames.size(), answers.data()); });
+    std::size_t i = 0;
+    for (const FrameRequest& f : frames)
+      for (std::size_t j = 0; j < f.count; ++j, ++i) {
+        const std::string problem = answer_problem(m, f.volumes[j], answers[i]);
+        if (!problem.empty()) throw std::runtime_error(problem);
+      }
+    return;
+  }
+  std::vector<Volume> asked;
+  std::vector<std::size_t> at;
+  std::vector<std::pair<std::size_t, std::size_t>> spans;  // per request: [begin, end) of `asked`
+  std::vector<const CaseFrustum*> of;
+  asked.reserve(total);
+  at.reserve(total);
+  total = 0;
+  for (const FrameRequest& f : frames) {
+    for (std::size_t kind = 0; kind < 4; ++kind) {
+      const std::size_t begin = asked.size();
+      for (std::size_t i = 0; i < f.count; ++i)
+        if (f.volumes[i].index() == kind && m.takes(f.volumes[i])) asked.push_back(f.volumes[i]), at.push_back(total + i);
+      if (asked.size() > begin) spans.emplace_back(begin, asked.size()), of.push_back(f.frustum);
+    }
+    total += f.count;
+  }
+  answers.assign(total, Answer{});
+  if (asked.empty()) return;
+  std::vector<FrameRequest> requests(spans.size());
+  for (std::size_t j = 0; j < spans.size(); ++j)
+    requests[j] = FrameRequest{of[j], asked.data() + spans[j].first, spans[j].second - spans[j].first};
+  std::vector<Answer> got(asked.size());
+  call_method(m, " on frames", [&] { m.classify_frames(requests.data(), requests.size(), got.data()); });
+  for (std::size_t i = 0; i < asked.size(); ++i) {
+    const std::string problem = answer_problem(m, asked[i], got[i]);
+    if (!problem.empty()) throw std::runtime_error(problem);
+    answers[at[i]] = got[i];
+  }
+}
+
 }  // namespace detail
 
 Answer checked_classify(const Method& m, const CaseFrustum& f, const Volume& v) {

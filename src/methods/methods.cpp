@@ -21,6 +21,14 @@ Answer Method::classify(const CaseFrustum& f, const Volume& v) const {
   return p->classify(v);
 }
 
+void Method::classify_frames(const FrameRequest* frames, std::size_t n, Answer* answers) const {
+  if (frames_) return frames_(frames, n, answers);
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::unique_ptr<PreparedFrustum> p = prepare(*frames[j].frustum);
+    for (std::size_t i = 0; i < frames[j].count; ++i) *answers++ = p ? p->classify(frames[j].volumes[i]) : Answer{};
+  }
+}
+
 namespace {
 
 std::vector<Method> build() {

@@ -219,19 +219,54 @@ class Process {
         fail(fmt::format("{} is a line longer than {}, the limit for {}: {}", line_name, byte_count_text(max_bytes), limit,
                          excerpt(buffer_)));
       scanned = buffer_.size();
-      pollfd p{from_, POLLIN, 0};
-      const int r = ::poll(&p, 1, int(timeout.count()));
-      if (r == 0) fail(fmt::format("no answer within {} ms to {} (hung? the limit is {})", timeout.count(), what, option));
-      if (r < 0) fail("cannot read its output: " + std::string(std::strerror(errno)));
-      char chunk[65536];
-      const ssize_t n = ::read(from_, chunk, sizeof chunk);
-      if (n <= 0) fail(fmt::format("exited{} before answering {}", exit_status(), what));
-      buffer_.append(chunk, std::size_t(n));
+      fill(what, timeout, option);
     }
   }
 
-  void send(const std::string& line, const std::string& what) {
-    if (!write_all(line + "\n")) fail(fmt::format("exited{} or stopped reading before it read {}", exit_status(), what));
+  // Reads what the program has written (at least a byte) into buffer_, within the timeout.
+  void fill(const std::string& what) { fill(what, opt_.timeout, "--external-timeout"); }
+  void fill(const std::string& what, std::chrono::milliseconds timeout, const char* option) {
+    pollfd p{from_, POLLIN, 0};
+    const int r = ::poll(&p, 1, int(timeout.count()));
+    if (r == 0) fail(fmt::format("no answer within {} ms to {} (hung? the limit is {})", timeout.count(), what, option));
+    if (r < 0) fail("cannot read its output: " + std::string(std::strerror(errno)));
+    char chunk[65536];
+    const ssize_t n = ::read(from_, chunk, sizeof chunk);
+    if (n <= 0) fail(fmt::format("exited{} before answering {}", exit_status(), what));
+    buffer_.append(chunk, std::size_t(n));
+  }
+
+  void send(const std::string& line, const std::string& what) { send_bytes(line + "\n", what); }
+  void send_bytes(const std::string& bytes, const std::string& what) {
+    if (!write_all(bytes)) fail(fmt::format("exited{} or stopped reading before it read {}", exit_status(), what));
+  }
+
+  // The first byte of the next answer, left to be read, within the timeout.
+  char peek(const std::string& what) {
+    if (buffer_.empty()) fill(what);
+    return buffer_[0];
+  }
+  // Exactly n bytes of answer (a binary answer, whose size the question sets), within the timeout
+  // for each read.
+  std::string read_exact(std::size_t n, const std::string& what) {
+    while (buffer_.size() < n) fill(what);
+    std::string out = buffer_.substr(0, n);
+    buffer_.erase(0, n);
+    return out;
+  }
+  // After a binary answer of `size` bytes: bytes the program wrote past it, already here or
+  // waiting in the pipe, are a fault of this answer (bytes that come later meet the next answer's
+  // checks).
+  void refuse_surplus(std::size_t size, const std::string& what) {
+    pollfd p{from_, POLLIN, 0};
+    if (buffer_.empty() && ::poll(&p, 1, 0) > 0 && (p.revents & POLLIN)) {
+      char chunk[4096];
+      const ssize_t n = ::read(from_, chunk, sizeof chunk);
+      if (n > 0) buffer_.append(chunk, std::size_t(n));
+    }
+    if (!buffer_.empty())
+      fail(fmt::format("wrote {} byte(s) or more past its binary answer to {} ({} bytes): {}", buffer_.size(), what, size,
+                       excerpt(buffer_)));
   }
 
   // A fault: the program is stopped at once (a hung one too) and the call that met it throws;
@@ -293,6 +328,13 @@ struct External {
   bool wants_reset = false;   // set by reset(): the next frame starts a camera path
   bool wants_matrix = false;  // asked only about frusta given by a clip matrix
   unsigned depths = 0xF;      // the depth conventions it reads (protocol::depth_convention_bit)
+  bool binary = false;        // frames and answers in the binary encoding (version 3)
+  std::uint32_t index = 0;    // its place in the handshake, which a binary frame names
+  // Whether it is asked about frustum f at all (else it does not apply).
+  bool applies(const CaseFrustum& f) const {
+    if (wants_matrix && !f.matrix) return false;  // the case gives planes only
+    return !wants_matrix || (depths & protocol::depth_convention_bit(f.depth));  // a convention it reads
+  }
   // What the program reported of its own time ("ns" in answers), under own_mutex.
   std::mutex own_mutex;
   double own_ns = 0.0;
@@ -349,10 +391,88 @@ void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::siz
   std::copy(r.verdicts.begin(), r.verdicts.end(), out);
 }
 
+// Frames in one binary message (an entry per run of volumes of one kind) and its answer: verdicts
+// for every frame's volumes, frame after frame (std::nullopt for a frame it does not apply to).
+void ask_binary(External& e, const FrameRequest* frames, std::size_t n, Answer* out) {
+  auto [p, lock] = e.acquire();
+  if (p.dead()) p.restart();
+  if (e.stateful && p.generation() != e.generation) {
+    e.wants_reset = true;  // a program started again has forgotten every frame
+    e.generation = p.generation();
+  }
+  // The message is made in a buffer kept per thread (a chunk's message is hundreds of KiB: made
+  // afresh each time, its pages would be mapped and unmapped per message).
+  thread_local std::string entries;
+  entries.clear();
+  std::vector<protocol::AskedFrame> asked;
+  std::vector<Answer*> to;  // where each entry's verdicts go
+  std::size_t volumes = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const FrameRequest& f = frames[j];
+    Answer* here = out;
+    out += f.count;
+    if (!e.applies(*f.frustum)) {
+      std::fill(here, here + f.count, Answer{});
+      continue;
+    }
+    for (std::size_t a = 0, b = 0; a < f.count; a = b) {
+      for (b = a + 1; b < f.count && f.volumes[b].index() == f.volumes[a].index(); ++b) {
+      }
+      const std::uint64_t id = p.next_frame++;
+      if (entries.empty()) entries.resize(protocol::kBinaryFramesHeader);
+      protocol::append_binary_frame(entries, id, e.index, e.wants_reset, *f.frustum, f.volumes + a, b - a);
+      e.wants_reset = false;
+      asked.push_back({id, b - a});
+      to.push_back(here + a);
+      volumes += b - a;
+    }
+  }
+  if (asked.empty()) return;
+  const std::string what =
+      asked.size() == 1
+          ? fmt::format("frame {} ({} volume(s) for method '{}')", asked[0].frame, volumes, e.method)
+          : fmt::format("frames {} to {} ({} volume(s) for method '{}')", asked[0].frame, asked.back().frame, volumes, e.method);
+  protocol::put_binary_header(entries, asked.size());
+  p.send_bytes(entries, what);
+  std::vector<protocol::Reply> replies;
+  try {
+    if (p.peek(what) == '{')
+      protocol::refuse_json_instead_of_binary(
+          p.read_line(what, kMaxAnswerBytes, "its answer to " + what, fmt::format("an error line ({} KiB)", kMaxAnswerBytes >> 10)),
+          asked[0].frame, what);
+    const std::size_t size = protocol::binary_answer_size(asked);
+    std::string answer = p.read_exact(protocol::kBinaryAnswerHeader, what);
+    protocol::check_binary_answer_header(answer, asked, what);
+    answer += p.read_exact(size - answer.size(), what);
+    replies = protocol::parse_binary_answer(answer, asked, what);
+    p.refuse_surplus(size, what);
+  } catch (const std::runtime_error& bad) {
+    if (!p.dead()) p.fail(bad.what());
+    throw;
+  }
+  double ns = 0.0;
+  std::uint64_t timed = 0;
+  for (std::size_t j = 0; j < replies.size(); ++j) {
+    std::copy(replies[j].verdicts.begin(), replies[j].verdicts.end(), to[j]);
+    if (replies[j].ns) ns += *replies[j].ns, timed += asked[j].volumes;
+  }
+  if (timed) {
+    std::lock_guard<std::mutex> g(e.own_mutex);
+    e.own_ns += ns;
+    e.own_volumes += timed;
+  }
+}
+
 class Prepared : public PreparedFrustum {
  public:
   Prepared(std::shared_ptr<External> e, CaseFrustum f) : e_(std::move(e)), f_(std::move(f)) {}
   Answer classify(const Volume& v) override {
+    if (e_->binary) {
+      Answer a;
+      const FrameRequest one{&f_, &v, 1};
+      ask_binary(*e_, &one, 1, &a);
+      return a;
+    }
     const std::string t = volume_text(v);
     Answer a;
     ask(*e_, f_, &t, 1, &a);
@@ -367,6 +487,11 @@ class Prepared : public PreparedFrustum {
   template <class K>
   void many(const K* v, std::size_t n, Answer* a) {
     if (n == 0) return;
+    if (e_->binary) {
+      const std::vector<Volume> volumes(v, v + n);
+      const FrameRequest one{&f_, volumes.data(), n};
+      return ask_binary(*e_, &one, 1, a);
+    }
     std::vector<std::string> t;
     t.reserve(n);
     for (std::size_t i = 0; i < n; ++i) t.push_back(volume_text(Volume{v[i]}));
@@ -517,14 +642,19 @@ std::vector<Method> external_methods(const ExternalOptions& options) {
     e->stateful = info.stateful;
     e->wants_matrix = offered.wants_matrix;
     e->depths = offered.depths;
+    e->binary = offered.binary;
+    e->index = offered.index;
     Method method(
         info,
         [e](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> {
-          if (e->wants_matrix && !f.matrix) return nullptr;  // does not apply: the case gives planes only
-          if (e->wants_matrix && !(e->depths & protocol::depth_convention_bit(f.depth))) return nullptr;  // a convention it does not read
+          if (!e->applies(f)) return nullptr;
           return std::make_unique<Prepared>(e, f);
         },
         /*batch=*/true);
+    // In the binary encoding, many frames go in one message (the campaign's frames of a chunk of
+    // cases), so that a round trip is paid per message.
+    if (e->binary && !e->stateful)
+      method.on_frames([e](const FrameRequest* frames, std::size_t n, Answer* answers) { ask_binary(*e, frames, n, answers); });
     method.on_reset([e] { e->wants_reset = true; });
     method.on_own_timing([e] {
       std::lock_guard<std::mutex> g(e->own_mutex);

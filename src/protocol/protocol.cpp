@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstring>
 #include <set>
 #include <stdexcept>
 #include <vector>
@@ -94,8 +95,12 @@ json read_handshake(std::string_view line, const std::string& program, int& vers
   if (!methods && !systems) throw std::runtime_error(where + ": neither \"methods\" nor \"systems\" offered");
   if (h.contains("methods") && !h["methods"].is_array()) throw std::runtime_error(where + ": \"methods\" is not an array");
   if (h.contains("systems") && !h["systems"].is_array()) throw std::runtime_error(where + ": \"systems\" is not an array");
-  known_fields(h, version >= 2 ? std::vector<const char*>{"protocol", "methods", "systems"} : std::vector<const char*>{"protocol", "methods"},
-               fmt::format("a version-{} handshake's fields", version), where);
+  std::vector<const char*> fields{"protocol", "methods"};
+  if (version >= 2) fields.push_back("systems");
+  if (version >= 3) fields.push_back("encoding");
+  known_fields(h, fields, fmt::format("a version-{} handshake's fields", version), where);
+  if (const auto e = h.find("encoding"); e != h.end() && !(e->is_string() && (*e == "json" || *e == "binary")))
+    throw std::runtime_error(where + ": \"encoding\" " + excerpt(e->dump()) + " is not \"json\" or \"binary\"");
   return h;
 }
 
@@ -175,6 +180,8 @@ std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::str
     const json& m = methods[i];
     const std::string at = fmt::format("{}, methods[{}]", where, i);
     OfferedMethod o;
+    o.index = std::uint32_t(i);
+    o.binary = h.value("encoding", std::string("json")) == "binary";
     MethodInfo& info = o.info;
     info.name = name_of(m, names, at);
     read_description(m, info, program, at, /*per_kind=*/true);
@@ -336,6 +343,135 @@ Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volum
     }
   }
   return r;
+}
+
+// ---- binary frames and answers
+
+namespace {
+
+template <class T>
+void put(std::string& out, T x) {
+  char b[sizeof(T)];
+  std::memcpy(b, &x, sizeof(T));
+  out.append(b, sizeof(T));
+}
+template <class T>
+T get(std::string_view bytes, std::size_t at) {
+  T x;
+  std::memcpy(&x, bytes.data() + at, sizeof(T));
+  return x;
+}
+void put3(std::string& out, const glm::vec3& v) {
+  for (int i = 0; i < 3; ++i) put(out, v[i]);
+}
+static_assert(sizeof(float) == 4 && sizeof(double) == 8, "the binary encoding is of 32- and 64-bit IEEE floats");
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the binary encoding is little-endian, as the machine is");
+
+// The kind byte of a binary frame: 0 point, 1 sphere, 2 aabb, 3 obb (Volume's alternatives).
+std::uint8_t kind_byte(const Volume& v) { return std::uint8_t(v.index()); }
+
+}  // namespace
+
+std::size_t binary_answer_size(const std::vector<AskedFrame>& frames) noexcept {
+  std::size_t n = kBinaryAnswerHeader;
+  for (const AskedFrame& f : frames) n += kBinaryAnswerFrameHeader + f.volumes;
+  return n;
+}
+
+void append_binary_frame(std::string& out, std::uint64_t frame, std::uint32_t method, bool reset, const CaseFrustum& f,
+                         const Volume* volumes, std::size_t n) {
+  const std::uint8_t kind = n ? kind_byte(volumes[0]) : 0;
+  put(out, frame);
+  put(out, method);
+  put(out, std::uint32_t(n));
+  put(out, kind);
+  put(out, std::uint8_t((reset ? 1 : 0) | (f.matrix ? 2 : 0)));
+  put(out, std::uint8_t(f.depth.range == DepthRange::zero_to_one ? 1 : 0));
+  put(out, std::uint8_t(f.depth.reversed_z ? 1 : 0));
+  for (int k = 0; k < kPlaneCount; ++k) {
+    put3(out, f.planes[k].n);
+    put(out, f.planes[k].d);
+  }
+  if (f.matrix)
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) put(out, (*f.matrix)[c][r]);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kind_byte(volumes[i]) != kind) throw std::invalid_argument("a binary frame holds volumes of one kind");
+    std::visit(
+        [&](const auto& x) {
+          using T = std::decay_t<decltype(x)>;
+          if constexpr (std::is_same_v<T, Point>) put3(out, x);
+          else if constexpr (std::is_same_v<T, Sphere>) put3(out, x.center), put(out, x.radius);
+          else if constexpr (std::is_same_v<T, Aabb>) put3(out, x.min), put3(out, x.max);
+          else put3(out, x.center), put3(out, x.axes[0]), put3(out, x.axes[1]), put3(out, x.axes[2]), put3(out, x.half);
+        },
+        volumes[i]);
+  }
+}
+
+void put_binary_header(std::string& message, std::size_t frames) {
+  const std::uint32_t count = std::uint32_t(frames), body = std::uint32_t(message.size() - kBinaryFramesHeader);
+  std::memcpy(message.data(), kBinaryFramesMagic, 4);
+  std::memcpy(message.data() + 4, &count, 4);
+  std::memcpy(message.data() + 8, &body, 4);
+}
+
+void check_binary_answer_header(std::string_view bytes, const std::vector<AskedFrame>& frames, const std::string& what) {
+  if (bytes.size() < kBinaryAnswerHeader)
+    throw std::runtime_error(fmt::format("answered {} with {} byte(s), shorter than a binary answer's header ({})", what,
+                                         bytes.size(), kBinaryAnswerHeader));
+  if (bytes.substr(0, 4) != std::string_view(kBinaryAnswerMagic, 4))
+    throw std::runtime_error(fmt::format("answered {} with a binary answer that does not begin with \"CP3A\": {}", what,
+                                         excerpt(bytes.substr(0, 4))));
+  if (get<std::uint32_t>(bytes, 4) != frames.size())
+    throw std::runtime_error(fmt::format("answered {} with {} frame(s) where {} were asked", what,
+                                         get<std::uint32_t>(bytes, 4), frames.size()));
+}
+
+std::vector<Reply> parse_binary_answer(std::string_view bytes, const std::vector<AskedFrame>& frames, const std::string& what) {
+  check_binary_answer_header(bytes, frames, what);
+  const std::size_t size = binary_answer_size(frames);
+  if (bytes.size() != size)
+    throw std::runtime_error(fmt::format("answered {} with {} byte(s) where the binary answer has {}", what, bytes.size(), size));
+  std::vector<Reply> out(frames.size());
+  std::size_t at = kBinaryAnswerHeader;
+  // A frame of a message of several is named with the message; a message of one frame names it.
+  auto frame_of = [&](std::uint64_t id) { return frames.size() == 1 ? what : fmt::format("frame {} of {}", id, what); };
+  for (std::size_t j = 0; j < frames.size(); ++j) {
+    const std::uint64_t id = get<std::uint64_t>(bytes, at);
+    const std::uint32_t n = get<std::uint32_t>(bytes, at + 8);
+    const double ns = get<double>(bytes, at + 12);
+    if (id != frames[j].frame)
+      throw std::runtime_error(fmt::format("answered frame {} when frame {} of {} was asked (answers come in order)", id,
+                                           frames[j].frame, what));
+    // The size matched, so a count that differs here shifts another frame's: named as this one's.
+    if (n != frames[j].volumes)
+      throw std::runtime_error(fmt::format("answered {} with {} verdict(s) for {} volume(s)", frame_of(id), n, frames[j].volumes));
+    if (!(ns >= 0.0) && ns != -1.0)
+      throw std::runtime_error(
+          fmt::format("answered {} with ns {}, which is not a number of nanoseconds (or -1)", frame_of(id), ns));
+    Reply& r = out[j];
+    if (ns >= 0.0) r.ns = ns;
+    at += kBinaryAnswerFrameHeader;
+    r.verdicts.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint8_t v = std::uint8_t(bytes[at + i]);
+      if (v == kBinaryNotApplying) continue;
+      if (v > 2)
+        throw std::runtime_error(fmt::format("answered {} with verdict byte {} for volume {}, which is not 0 (outside), 1 "
+                                             "(intersecting), 2 (inside) or 255 (does not apply)",
+                                             frame_of(id), v, i));
+      r.verdicts[i] = Visibility(v);
+    }
+    at += n;
+  }
+  return out;
+}
+
+void refuse_json_instead_of_binary(std::string_view line, std::uint64_t first_frame, const std::string& what) {
+  answer_json(line, first_frame, what);  // throws the error the program reports
+  throw std::runtime_error(
+      fmt::format("answered {} with a JSON line where a binary answer (\"CP3A\") was due: {}", what, excerpt(line)));
 }
 
 }  // namespace cullproof::protocol

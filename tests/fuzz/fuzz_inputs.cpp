@@ -146,6 +146,27 @@ void protocol_reader(std::string_view bytes) {
         broken("a visible set refused without saying which message", what);
     }
   }
+  // As a binary answer: to one frame of as many volumes as the bytes hold, and to two frames
+  // sharing them (so that every header field, not only the size, meets the input).
+  if (bytes.size() >= protocol::kBinaryAnswerHeader + 2 * protocol::kBinaryAnswerFrameHeader) {
+    const std::size_t n = bytes.size() - protocol::kBinaryAnswerHeader - protocol::kBinaryAnswerFrameHeader;
+    const std::size_t m = n - protocol::kBinaryAnswerFrameHeader;
+    for (const std::vector<protocol::AskedFrame>& frames :
+         {std::vector<protocol::AskedFrame>{{1, n}}, std::vector<protocol::AskedFrame>{{1, m / 2}, {2, m - m / 2}}}) {
+      try {
+        const std::vector<protocol::Reply> r = protocol::parse_binary_answer(bytes, frames, "message 1");
+        if (r.size() != frames.size()) broken("a binary answer read with another number of frames", bytes);
+        for (std::size_t j = 0; j < r.size(); ++j) {
+          if (r[j].verdicts.size() != frames[j].volumes) broken("a binary answer read with another number of verdicts", bytes);
+          if (r[j].ns && !(*r[j].ns >= 0.0)) broken("a binary answer read with a negative time", bytes);
+          for (const Answer& a : r[j].verdicts)
+            if (a && unsigned(*a) > 2) broken("a binary answer read with a verdict that is not one", bytes);
+        }
+      } catch (const std::runtime_error& e) {
+        if (std::string(e.what()).rfind("answered ", 0) != 0) broken("a binary answer refused without saying which message", e.what());
+      }
+    }
+  }
   for (std::size_t volumes : {std::size_t(1), std::size_t(3)}) {
     try {
       const protocol::Reply r = protocol::parse_answer(bytes, 1, volumes, "frame 1");

@@ -24,7 +24,8 @@ void case_reader(std::string_view bytes);
 void scene_reader(std::string_view bytes);
 /// The corpus reader: the bytes as a corpus file (parse_corpus_entry), with its camera path.
 void corpus_reader(std::string_view bytes);
-/// The process protocol's reader: the bytes as a program's handshake and as its answer to a frame.
+/// The process protocol's readers: the bytes as a program's handshake, its answer to a frame (a
+/// JSON line) and its binary answer to one frame or two.
 void protocol_reader(std::string_view bytes);
 
 }  // namespace cullproof::fuzz

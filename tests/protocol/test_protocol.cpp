@@ -4,6 +4,7 @@
 // order are each stopped with the documented error and the case saved.
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/core/cull.hpp"
+#include "cullproof/corpus/corpus.hpp"
 #include "cullproof/protocol/external.hpp"
 #include "cullproof/protocol/protocol.hpp"
 #include "cullproof/io/case_io.hpp"
@@ -18,6 +19,7 @@
 #include <cstring>
 #include <filesystem>
 #include <regex>
+#include <tuple>
 
 namespace cullproof {
 namespace {
@@ -210,12 +212,16 @@ TEST(Protocol, APlantedBugIsFoundThroughTheProtocolAsInProcess) {
 // The fault's message, which must match `pattern` (an ECMAScript regular expression: a frame's
 // volume count depends on the frame's kinds, and on which frame of the campaign's threads is asked
 // third).
-std::string expect_fault(const std::string& mode, const std::string& pattern) {
+std::string expect_fault(const std::vector<std::string>& modes, const std::string& pattern) {
+  const std::string mode = modes.back();
   const auto dir = std::filesystem::temp_directory_path() / ("cullproof-protocol-" + mode + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   VerifyOptions o = small_run();
+  // Binary messages carry a chunk of about 1,024 cases: enough cases that the first family asks
+  // the third message.
+  if (modes.front() == "binary") o.cases = 6000;
   o.faults = dir;
-  const VerifyResult r = run_verify(o, external_methods(adapter({mode})));
+  const VerifyResult r = run_verify(o, external_methods(adapter(modes)));
   EXPECT_TRUE(r.distributions[0].methods[0].fault) << mode << ": not stopped";
   if (!r.distributions[0].methods[0].fault) return {};
   const MethodFault& f = *r.distributions[0].methods[0].fault;
@@ -226,6 +232,9 @@ std::string expect_fault(const std::string& mode, const std::string& pattern) {
   EXPECT_TRUE(r.failed());
   std::filesystem::remove_all(dir);
   return what;
+}
+std::string expect_fault(const std::string& mode, const std::string& pattern) {
+  return expect_fault(std::vector<std::string>{mode}, pattern);
 }
 
 TEST(Protocol, ACrashIsStopped) { expect_fault("crash", R"(exited \(signal 6\) before answering frame 3)"); }
@@ -351,7 +360,7 @@ TEST(Protocol, CopiesThatOfferDifferentMethodsAreRefused) {
 }
 
 TEST(Protocol, AnotherVersionIsRefusedAtTheHandshake) {
-  expect_refused_handshake("bad-version", "handshake: protocol version 99, this cullproof speaks versions 1 to 2");
+  expect_refused_handshake("bad-version", "handshake: protocol version 99, this cullproof speaks versions 1 to 3");
 }
 
 TEST(Protocol, AProgramThatCannotRunIsReported) {
@@ -435,7 +444,7 @@ TEST(ProtocolReader, AHandshakeOfTheWrongShapeIsRefusedNamingTheField) {
             "external program 'prog': handshake, methods[1]: \"name\" \"m\" is offered twice");
   // 2^32 + 1 is not version 1, however an int would hold it.
   EXPECT_EQ(handshake_error(R"({"protocol": 4294967297, "methods": [)" + ok + "}]}"),
-            "external program 'prog': handshake: protocol version 4294967297, this cullproof speaks versions 1 to 2");
+            "external program 'prog': handshake: protocol version 4294967297, this cullproof speaks versions 1 to 3");
   EXPECT_EQ(handshake_error(R"({"protocol": 1, "methods": [{"name": "m", "volumes": [1e999]}]})"),
             "external program 'prog': its handshake has a number beyond the range of a double (number overflow parsing "
             "'1e999'): {\"protocol\": 1, \"methods\": [{\"name\": \"m\", \"volumes\": [1e999]}]}");
@@ -507,6 +516,197 @@ TEST(ProtocolReader, ThreeWayIsDeclaredPerKind) {
   EXPECT_EQ(error(R"({"ball": false})"),
             "external program 'prog': handshake, methods[0]: \"three_way\": unknown volume kind \"ball\" (point, sphere, aabb, obb)");
   EXPECT_EQ(error("[]"), "external program 'prog': handshake, methods[0]: \"three_way\" [] is not true or false");
+}
+
+// ---- the binary encoding (version 3)
+
+// The same cases through JSON Lines, through binary messages (a chunk's frames in one message)
+// with one copy and two, and in process: the same counts on every kind of family (framed, one
+// case a frame, camera paths).
+TEST(Protocol, TheBinaryEncodingGivesTheSameCountsAsJsonAndAsInProcess) {
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::uniform, gen::Distribution::corner, gen::Distribution::contact,
+                     gen::Distribution::camera_path};
+  const std::vector<Method> binary = external_methods(adapter({"binary"}));
+  ASSERT_EQ(binary.size(), 1u);
+  EXPECT_TRUE(binary[0].has_frames()) << "asked a chunk's frames at once";
+  ExternalOptions two = adapter({"binary"});
+  two.instances = 2;
+  const VerifyResult r = run_verify(o, {binary[0], *find_builtin("pn-vertex")});
+  const VerifyResult j = run_verify(o, external_methods(adapter({"ok"})));
+  const VerifyResult c = run_verify(o, external_methods(two));
+  for (std::size_t d = 0; d < r.distributions.size(); ++d) {
+    const std::string family(gen::to_string(r.distributions[d].distribution));
+    const MethodStats& b = r.distributions[d].methods[0];
+    for (const MethodStats* x : {&r.distributions[d].methods[1], &j.distributions[d].methods[0], &c.distributions[d].methods[0]}) {
+      EXPECT_GT(x->cases, 0u) << family;
+      EXPECT_EQ(b.cases, x->cases) << family;
+      EXPECT_EQ(b.truth_outside, x->truth_outside) << family;
+      EXPECT_EQ(b.false_intersect, x->false_intersect) << family;
+      EXPECT_EQ(b.under_inside, x->under_inside) << family;
+      EXPECT_EQ(b.false_reject, x->false_reject) << family;
+    }
+    EXPECT_FALSE(b.fault) << family;
+  }
+}
+
+TEST(Protocol, APlantedBugIsFoundThroughBinaryMessages) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-protocol-binary-bug-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  VerifyOptions o = small_run();
+  o.distributions = {gen::Distribution::contact};
+  o.corpus = dir;
+  const VerifyResult r = run_verify(o, external_methods(adapter({"binary", "reject-touching"})));
+  const MethodStats& s = r.distributions[0].methods[0];
+  EXPECT_TRUE(s.refuted());
+  EXPECT_GT(s.false_reject, 0u);
+  EXPECT_FALSE(s.corpus_written.empty());
+  for (const CorpusEntry& e : load_corpus(dir))
+    EXPECT_TRUE(replay(e, external_methods(adapter({"binary", "reject-touching"}))).reproduces) << e.file;
+  std::filesystem::remove_all(dir);
+}
+
+// A binary fault: the message names the frame (the first of a message of several, or the one the
+// fault is in) and, asked frame by frame again, the case it strikes on is saved.
+TEST(Protocol, BinaryFaultsAreStoppedNamingTheFrame) {
+  const std::string frames = R"(frames? \d+( to \d+)? \(\d+ volume\(s\) for method 'reference-pn-vertex'\))";
+  expect_fault(std::vector<std::string>{"binary", "crash"}, R"(exited \(signal 6\) before answering )" + frames);
+  expect_fault(std::vector<std::string>{"binary", "hang"}, "no answer within 1500 ms to " + frames);
+  expect_fault(std::vector<std::string>{"binary", "truncated"}, R"(exited \(status 0\) before answering )" + frames);
+  expect_fault(std::vector<std::string>{"binary", "garbage"}, "answered " + frames + R"( with a binary answer that does not begin with "CP3A": segf)");
+  expect_fault(std::vector<std::string>{"binary", "wrong-count"}, R"(answered (frame \d+ of )?)" + frames + R"( with (\d+) verdict\(s\) for \d+ volume\(s\))");
+  expect_fault(std::vector<std::string>{"binary", "bad-verdict"}, R"(answered (frame \d+ of )?)" + frames + R"( with verdict byte 7 for volume 0, which is not 0)");
+  expect_fault(std::vector<std::string>{"binary", "out-of-order"}, R"(answered frame (\d+) when frame \d+ of )" + frames);
+  expect_fault(std::vector<std::string>{"binary", "bad-ns"}, R"(with ns nan, which is not a number of nanoseconds)");
+  expect_fault(std::vector<std::string>{"binary", "error"}, "reported an error for " + frames + ": cannot cull this frame");
+  expect_fault(std::vector<std::string>{"binary", "long-answer"},
+               "(wrote \\d+ byte\\(s\\) or more past its binary answer to |does not begin with \"CP3A\": xxx)");
+}
+
+TEST(ProtocolReader, AVersion3HandshakeChoosesItsEncoding) {
+  const auto offered = protocol::parse_handshake(
+      R"({"protocol": 3, "encoding": "binary", "methods": [{"name": "a", "volumes": ["aabb"]}, {"name": "b", "volumes": ["sphere"]}]})",
+      "prog");
+  ASSERT_EQ(offered.size(), 2u);
+  EXPECT_TRUE(offered[0].binary && offered[1].binary);
+  EXPECT_EQ(offered[1].index, 1u);
+  EXPECT_FALSE(protocol::parse_handshake(R"({"protocol": 3, "methods": [{"name": "a", "volumes": ["aabb"]}]})", "prog")[0].binary);
+  auto refused = [](const std::string& line) {
+    try {
+      protocol::parse_handshake(line, "prog");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refused(R"({"protocol": 3, "encoding": "xml", "methods": [{"name": "a", "volumes": ["aabb"]}]})"),
+            "external program 'prog': handshake: \"encoding\" \"xml\" is not \"json\" or \"binary\"");
+  EXPECT_EQ(refused(R"({"protocol": 2, "encoding": "binary", "methods": [{"name": "a", "volumes": ["aabb"]}]})"),
+            "external program 'prog': handshake: unknown field \"encoding\" (a version-2 handshake's fields: protocol, methods, "
+            "systems)");
+}
+
+// A binary answer built by hand: "CP3A", the frame count, then per frame its number, its verdict
+// count, its ns (a double) and a byte per verdict.
+std::string binary_answer(std::uint32_t frames, const std::vector<std::tuple<std::uint64_t, std::uint32_t, double, std::string>>& f) {
+  std::string s = "CP3A";
+  s.append(reinterpret_cast<const char*>(&frames), 4);
+  for (const auto& [id, n, ns, verdicts] : f) {
+    s.append(reinterpret_cast<const char*>(&id), 8);
+    s.append(reinterpret_cast<const char*>(&n), 4);
+    s.append(reinterpret_cast<const char*>(&ns), 8);
+    s += verdicts;
+  }
+  return s;
+}
+
+TEST(ProtocolReader, ABinaryAnswerIsReadOrRefusedNamingTheFrame) {
+  const std::vector<protocol::AskedFrame> asked{{7, 2}, {8, 1}};
+  EXPECT_EQ(protocol::binary_answer_size(asked), 8u + 20 + 2 + 20 + 1);
+  const auto r = protocol::parse_binary_answer(
+      binary_answer(2, {{7, 2, 12.5, std::string("\x02\xff", 2)}, {8, 1, -1.0, std::string(1, '\0')}}), asked, "frames 7 to 8");
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].verdicts, (std::vector<Answer>{Visibility::inside, std::nullopt}));
+  EXPECT_EQ(r[0].ns, 12.5);
+  EXPECT_EQ(r[1].verdicts, (std::vector<Answer>{Visibility::outside}));
+  EXPECT_FALSE(r[1].ns) << "-1: not given";
+  auto refused = [&](const std::string& bytes) {
+    try {
+      protocol::parse_binary_answer(bytes, asked, "frames 7 to 8");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string ok1 = std::string("\x01\x01", 2), ok2 = std::string(1, '\x01');
+  EXPECT_EQ(refused(binary_answer(2, {{7, 2, 0, ok1}, {8, 1, 0, ok2}}).substr(0, 30)),
+            "answered frames 7 to 8 with 30 byte(s) where the binary answer has 51");
+  EXPECT_EQ(refused("CP3B" + binary_answer(2, {{7, 2, 0, ok1}, {8, 1, 0, ok2}}).substr(4)),
+            "answered frames 7 to 8 with a binary answer that does not begin with \"CP3A\": CP3B");
+  EXPECT_EQ(refused(binary_answer(1, {{7, 2, 0, ok1}, {8, 1, 0, ok2}})), "answered frames 7 to 8 with 1 frame(s) where 2 were asked");
+  EXPECT_EQ(refused(binary_answer(2, {{7, 2, 0, ok1}, {9, 1, 0, ok2}})),
+            "answered frame 9 when frame 8 of frames 7 to 8 was asked (answers come in order)");
+  EXPECT_EQ(refused(binary_answer(2, {{7, 1, 0, ok1}, {8, 2, 0, ok2}})),
+            "answered frame 7 of frames 7 to 8 with 1 verdict(s) for 2 volume(s)");
+  EXPECT_EQ(refused(binary_answer(2, {{7, 2, 0, std::string("\x01\x03", 2)}, {8, 1, 0, ok2}})),
+            "answered frame 7 of frames 7 to 8 with verdict byte 3 for volume 1, which is not 0 (outside), 1 (intersecting), "
+            "2 (inside) or 255 (does not apply)");
+  EXPECT_EQ(refused(binary_answer(2, {{7, 2, -2.0, ok1}, {8, 1, 0, ok2}})),
+            "answered frame 7 of frames 7 to 8 with ns -2, which is not a number of nanoseconds (or -1)");
+  try {
+    protocol::refuse_json_instead_of_binary(R"({"frame": 7, "error": "out of memory"})", 7, "frames 7 to 8");
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "reported an error for frames 7 to 8: out of memory");
+  }
+  try {
+    protocol::refuse_json_instead_of_binary(R"({"frame": 7, "verdicts": ["inside"]})", 7, "frames 7 to 8");
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "answered frames 7 to 8 with a JSON line where a binary answer (\"CP3A\") was due: "
+                                     "{\"frame\": 7, \"verdicts\": [\"inside\"]}");
+  }
+}
+
+// A frame entry as docs/protocol.md lays it out, byte by byte.
+TEST(ProtocolReader, ABinaryFrameIsLaidOutAsDocumented) {
+  const CaseFrustum f = frustum_spec(frustum_from_matrix(off_axis_projection(-1, 1, -1, 1, 1, 10)));
+  const CaseFrustum m = frustum_spec(off_axis_projection(-1, 1, -1, 1, 1, 10), DepthConvention{DepthRange::zero_to_one, true});
+  const std::vector<Volume> boxes{Aabb{{1, 2, 3}, {4, 5, 6}}, Aabb{{-1, -1, -9}, {1, 1, -8}}};
+  std::string entries(protocol::kBinaryFramesHeader, '\0');
+  protocol::append_binary_frame(entries, 5, 2, true, f, boxes.data(), boxes.size());
+  protocol::append_binary_frame(entries, 6, 2, false, m, boxes.data(), 1);
+  protocol::put_binary_header(entries, 2);
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t x;
+    std::memcpy(&x, entries.data() + at, 4);
+    return x;
+  };
+  auto f32 = [&](std::size_t at) {
+    float x;
+    std::memcpy(&x, entries.data() + at, 4);
+    return x;
+  };
+  const std::size_t first = 20 + 96 + 2 * 24, second = 20 + 96 + 64 + 24;
+  ASSERT_EQ(entries.size(), 12 + first + second);
+  EXPECT_EQ(entries.substr(0, 4), "CP3F");
+  EXPECT_EQ(u32(4), 2u);
+  EXPECT_EQ(u32(8), first + second);
+  std::uint64_t id;
+  std::memcpy(&id, entries.data() + 12, 8);
+  EXPECT_EQ(id, 5u);
+  EXPECT_EQ(u32(20), 2u) << "the method's index";
+  EXPECT_EQ(u32(24), 2u) << "the volume count";
+  EXPECT_EQ(entries[28], 2) << "kind: aabb";
+  EXPECT_EQ(entries[29], 1) << "flags: reset, no matrix";
+  EXPECT_EQ(f32(32), f.planes[0].n.x);
+  EXPECT_EQ(f32(32 + 23 * 4), f.planes[5].d);
+  EXPECT_EQ(f32(12 + 20 + 96), 1.0f) << "the first box's min.x";
+  EXPECT_EQ(f32(12 + first - 4), -8.0f) << "the second box's max.z";
+  const std::size_t b = 12 + first;
+  EXPECT_EQ(entries[b + 17], 2) << "flags: a matrix, no reset";
+  EXPECT_EQ(entries[b + 18], 1) << "depth: zero to one";
+  EXPECT_EQ(entries[b + 19], 1) << "reversed-Z";
+  EXPECT_EQ(f32(b + 20 + 96), (*m.matrix)[0][0]) << "the matrix, column-major";
+  EXPECT_EQ(f32(b + 20 + 96 + 4 * 14), (*m.matrix)[3][2]);
 }
 
 TEST(ProtocolReader, AnAnswerIsReadOrRefusedNamingTheFrame) {

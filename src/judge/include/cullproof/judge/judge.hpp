@@ -123,6 +123,13 @@ void run_path(const Method& m, const std::vector<CaseFrustum>& frames, std::size
 /// checked_classify on a generated case.
 std::optional<Visibility> run_method(const Method& m, const gen::GenCase& c);
 
+/// Method m (not stateful) on several frames at once (Method::classify_frames): answers[j] for
+/// the j-th volume over all frames, frame after frame; std::nullopt for a volume it does not take.
+/// Each frame's volumes are asked by kind, in the order points, spheres, boxes, OBBs, as run_path
+/// asks a batch method. Throws std::runtime_error naming the method for what it throws or an
+/// answer it may not give; which frame is at fault, the caller finds by asking frame by frame.
+void run_frames(const Method& m, const std::vector<FrameRequest>& frames, std::vector<Answer>& answers);
+
 }  // namespace detail
 
 }  // namespace cullproof

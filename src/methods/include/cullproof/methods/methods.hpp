@@ -136,6 +136,13 @@ class PreparedFrustum {
   virtual void classify_batch(const Obb* volumes, std::size_t n, Answer* answers) = 0;
 };
 
+/// One frame of several asked at once (Method::classify_frames): its frustum and its volumes.
+struct FrameRequest {
+  const CaseFrustum* frustum = nullptr;
+  const Volume* volumes = nullptr;
+  std::size_t count = 0;
+};
+
 /// One method: its description and its culler.
 class Method : public MethodInfo {
  public:
@@ -166,6 +173,23 @@ class Method : public MethodInfo {
     own_timing_ = std::move(fn);
     return *this;
   }
+  /// A method that answers many frames in one call: a program behind the process protocol's
+  /// binary encoding asks them in one message, so that a round trip is paid per message, not per
+  /// frame. `fn(frames, n, answers)` answers every frame's volumes, frame after frame, as if each
+  /// frame were prepared and its volumes classified in order (of one kind at a time, as
+  /// classify_batch); it throws where one of the frames would (the caller then asks frame by frame
+  /// to find which). Not for a stateful method.
+  using ClassifyFrames = std::function<void(const FrameRequest* frames, std::size_t n, Answer* answers)>;
+  Method& on_frames(ClassifyFrames fn) {
+    frames_ = std::move(fn);
+    return *this;
+  }
+  /// Whether classify_frames asks the frames together (on_frames).
+  bool has_frames() const noexcept { return bool(frames_); }
+  /// Answers for every volume of `frames`, frame after frame: together where the method has a
+  /// frames form, else each frame prepared and its volumes classified in order (std::nullopt
+  /// for a frame the method does not apply to).
+  void classify_frames(const FrameRequest* frames, std::size_t n, Answer* answers) const;
   /// Nanoseconds and volumes the method reported of itself since the previous call ({0, 0}: none).
   std::pair<double, std::uint64_t> take_own_timing() const { return own_timing_ ? own_timing_() : std::pair<double, std::uint64_t>{}; }
   /// One volume against one frustum, set-up included (a convenience: the harness prepares once
@@ -177,6 +201,7 @@ class Method : public MethodInfo {
   Prepare prepare_;
   std::function<void()> reset_;
   std::function<std::pair<double, std::uint64_t>()> own_timing_;
+  ClassifyFrames frames_;
   bool batch_ = false;
 };
 

@@ -1,6 +1,7 @@
 // Cullers in any language: a program that speaks the cullproof process protocol (JSON Lines over
-// its stdin and stdout, docs/protocol.md) becomes a Method like any other, verified, shrunk and
-// recorded the same way. The program is started once; its methods share it.
+// its stdin and stdout, or binary method frames, docs/protocol.md) becomes a Method like any
+// other, verified, shrunk and recorded the same way. The program is started once; its methods
+// share it.
 #pragma once
 
 #include "cullproof/methods/methods.hpp"
@@ -13,8 +14,9 @@
 
 namespace cullproof {
 
-/// The protocol version this cullproof speaks (version 1, methods only, is still read).
-constexpr int kProtocolVersion = 2;
+/// The newest protocol version this cullproof speaks (1, methods only, and 2, with systems, are
+/// still read; 3 adds the binary encoding of method frames).
+constexpr int kProtocolVersion = 3;
 
 // Limits on what the program writes. A line past one is the program's fault, reported like the
 // others (naming the program, the message awaited and the limit) as soon as the line passes it:
@@ -44,8 +46,9 @@ struct ExternalOptions {
 };
 
 /// Starts the program, reads its handshake and returns its methods (origin user unless the
-/// handshake says otherwise). Every call into a method sends one frame message and waits for its
-/// answer; a program that exits, hangs past the timeout, or answers what the protocol does not
+/// handshake says otherwise). Every call into a method sends one message and waits for its
+/// answer: a frame in JSON, or in the binary encoding (version 3) the frames of a call, and of a
+/// classify_frames call many frames (Method::has_frames, not for a stateful method); a program that exits, hangs past the timeout, or answers what the protocol does not
 /// allow (malformed JSON, another frame, the wrong count, an unknown verdict, a line or nesting
 /// past the limits above) makes the call throw
 /// std::runtime_error naming the program, the message and what was wrong (the campaign makes it

@@ -18,6 +18,10 @@ namespace cullproof::protocol {
 
 /// A method a program offers, as its handshake describes it.
 struct OfferedMethod {
+  /// Its place in the handshake's "methods" (a binary frame names its method by this index).
+  std::uint32_t index = 0;
+  /// The handshake's "encoding" (version 3): method frames and their answers in binary.
+  bool binary = false;
   /// name, description, source, claim, tolerance, volumes, three_way, stateful, touching and origin
   /// (user unless "published"); `program` is left empty.
   MethodInfo info;
@@ -72,6 +76,52 @@ struct Reply {
 /// "error" the program reports, a missing "verdicts" array or one of another length, a verdict
 /// that is not "outside", "intersecting", "inside" or null, or an "ns" that is not a number >= 0.
 Reply parse_answer(std::string_view line, std::uint64_t frame, std::size_t volumes, const std::string& what);
+
+// ---- The binary encoding of method frames and answers (version 3, "encoding": "binary")
+
+/// The first four bytes of a binary frame message ("CP3F") and of its answer ("CP3A").
+constexpr char kBinaryFramesMagic[4] = {'C', 'P', '3', 'F'};
+constexpr char kBinaryAnswerMagic[4] = {'C', 'P', '3', 'A'};
+/// A binary verdict byte: Visibility's value (0 outside, 1 intersecting, 2 inside), or this for a
+/// method that does not apply to the volume.
+constexpr std::uint8_t kBinaryNotApplying = 255;
+/// Bytes of a binary answer's header (magic, frame count) and of each frame's (frame number,
+/// verdict count, ns), before its verdict bytes.
+constexpr std::size_t kBinaryAnswerHeader = 8;
+constexpr std::size_t kBinaryAnswerFrameHeader = 20;
+
+/// One frame of a binary message, as asked: its number and how many volumes it holds.
+struct AskedFrame {
+  std::uint64_t frame = 0;
+  std::size_t volumes = 0;
+};
+/// The size in bytes of the binary answer to `frames` (the program's answer has exactly this
+/// size; cullproof reads no more).
+std::size_t binary_answer_size(const std::vector<AskedFrame>& frames) noexcept;
+/// Appends to `out` the binary frame entry of method `method` (its handshake index) for frame
+/// number `frame`: `reset` as the JSON frame's, the planes, the matrix and its depth convention
+/// when the frustum has one, then the volumes (all of one kind; throws std::invalid_argument
+/// otherwise). `binary_message` puts entries into a message.
+void append_binary_frame(std::string& out, std::uint64_t frame, std::uint32_t method, bool reset, const CaseFrustum& f,
+                         const Volume* volumes, std::size_t n);
+/// Bytes of a binary frame message's header: the magic, the frame count, the bytes that follow.
+constexpr std::size_t kBinaryFramesHeader = 12;
+/// Makes `message`, kBinaryFramesHeader bytes followed by `frames` entries (append_binary_frame),
+/// a binary frame message: writes its header over the first bytes.
+void put_binary_header(std::string& message, std::size_t frames);
+/// Checks the first kBinaryAnswerHeader bytes of a binary answer: its magic and frame count (so
+/// that an answer of the wrong shape is refused before the rest is awaited). Throws as
+/// parse_binary_answer does.
+void check_binary_answer_header(std::string_view bytes, const std::vector<AskedFrame>& frames, const std::string& what);
+/// Reads a binary answer (binary_answer_size(frames) bytes) to the frames asked; `what` names the
+/// message. Throws std::runtime_error "answered <what> ..." (or "answered frame F of <what> ...")
+/// for another size, magic, frame count, frame number or verdict count, a verdict byte that is not
+/// 0, 1, 2 or 255, or an ns that is neither a number >= 0 nor -1 (not given).
+std::vector<Reply> parse_binary_answer(std::string_view bytes, const std::vector<AskedFrame>& frames, const std::string& what);
+/// Reads the JSON line a program writes instead of a binary answer: {"frame": F, "error": "..."}
+/// with F the message's first frame. Always throws: the error it reports, or what is wrong with
+/// the line.
+[[noreturn]] void refuse_json_instead_of_binary(std::string_view line, std::uint64_t first_frame, const std::string& what);
 
 /// A line as messages quote it: its first 200 bytes, then "..." if there is more.
 std::string excerpt(std::string_view line);
