@@ -623,7 +623,7 @@ class DistributionRun {
     for (std::size_t j = 0; j < pending.size(); ++j) {
       const auto [i, cls, violation] = pending[j];
       Shrunk& r = out[j];
-      r.held = sources.held(m, opt_.seed, first_ + i, cls);
+      r.held = sources.held(m, opt_.seed, first_ + i, cls, /*judge=*/violation);
       if (r.held) continue;
       const Visibility t = out_[i].truth;
       const GenCase c = case_at(i);

@@ -112,8 +112,8 @@ CorpusSources::CorpusSources(const std::filesystem::path& dir, const std::string
   }
 }
 
-std::optional<CorpusRecord> CorpusSources::held(const Method& m, std::uint64_t seed, std::uint64_t index,
-                                                 ErrorClass cls) const {
+std::optional<CorpusRecord> CorpusSources::held(const Method& m, std::uint64_t seed, std::uint64_t index, ErrorClass cls,
+                                                 bool judge) const {
   auto number = [](const nlohmann::json& x, const char* key) -> std::optional<std::uint64_t> {
     const auto it = x.find(key);
     if (it == x.end() || !it->is_number_unsigned()) return std::nullopt;
@@ -128,6 +128,11 @@ std::optional<CorpusRecord> CorpusSources::held(const Method& m, std::uint64_t s
       continue;  // the fault is the run's to find, on the case shrunk again
     }
     if (!now || *now != e.verdict) continue;
+    if (!judge) {
+      const Visibility truth = oracle::truth(e.c.frustum, e.c.volume);
+      if (truth != *e.c.truth || error_class(e.verdict, truth, m.three_way_on(e.c.volume)) != cls) continue;
+      return CorpusRecord{e.c.id, false, false};
+    }
     const oracle::VerdictDistance vd = oracle::distance_to_verdict(e.c.frustum, e.c.volume, e.verdict);
     if (vd.truth != *e.c.truth || error_class(e.verdict, vd.truth, m.three_way_on(e.c.volume)) != cls) continue;
     const double scale = gen::case_scale(e.c.frustum, e.c.volume);

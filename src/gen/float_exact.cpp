@@ -10,10 +10,13 @@
 // Predicates", Discrete & Computational Geometry 18, 1997, §2 (Two-Sum, Grow-Expansion).
 #include "cullproof/gen/generators.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <initializer_list>
+#include <limits>
 #include <variant>
 
 namespace cullproof::gen {
@@ -82,10 +85,41 @@ double product(float a, float b) { return double(a) * double(b); }
 // Whether a double (exactly a float or a product of two) is a finite float.
 bool is_float(double x) { return double(static_cast<float>(x)) == x; }
 
+// A sufficient test for sums_are_floats, without a sum: every term an integer multiple of 2^low
+// (the least of their lowest set bits; low >= -149, a float's least unit) and their magnitudes
+// summing to less than 2^(low + 24) and to no more than the largest float. Every sum of some of
+// them is then a multiple of 2^low below 2^24 such units: a float. False says nothing.
+template <std::size_t N>
+bool sums_fit_a_float(const std::array<double, N>& terms) {
+  int low = std::numeric_limits<int>::max();
+  double total = 0.0;
+  for (const double x : terms) {
+    if (x == 0.0) continue;
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    const int e = int((bits >> 52) & 0x7ff);
+    if (e == 0 || e == 0x7ff) return false;  // a subnormal double or not finite: the full test decides
+    const std::uint64_t mantissa = (bits & ((std::uint64_t(1) << 52) - 1)) | (std::uint64_t(1) << 52);
+    low = std::min(low, e - 1075 + __builtin_ctzll(mantissa));
+    total += std::fabs(x);
+  }
+  if (low == std::numeric_limits<int>::max()) return true;  // every term zero
+  if (low < -149) return false;
+  // `total` may round below the magnitudes' true sum, by far less than this margin.
+  const double bound = total * (1.0 + 0x1p-40);
+  if (!(bound <= double(std::numeric_limits<float>::max()))) return false;
+  if (low + 24 > 128) return true;  // 2^(low + 24) is past the largest float, which bounds the sum
+  const std::uint64_t limit_bits = std::uint64_t(low + 24 + 1023) << 52;  // 2^(low + 24), a normal double
+  double limit;
+  std::memcpy(&limit, &limit_bits, sizeof limit);
+  return bound < limit;
+}
+
 // Whether every sum of two or more of the terms (each already a float) is a float: every partial
 // sum of any evaluation order is one of these.
 template <std::size_t N>
 bool sums_are_floats(const std::array<double, N>& terms) {
+  if (sums_fit_a_float(terms)) return true;
   for (std::uint32_t mask = 1; mask < (1u << N); ++mask) {
     if ((mask & (mask - 1)) == 0) continue;  // a single term
     Sum s;

@@ -208,6 +208,16 @@ namespace cullproof {
 
 namespace {
 
+// x * 2^k as std::ldexp gives it (the exact product, correctly rounded): one multiplication where
+// 2^k is a normal double, which rounds the exact product once, as ldexp does.
+double times_pow2(double x, int k) {
+  if (k < -1022 || k > 1023) return std::ldexp(x, k);
+  const std::uint64_t bits = std::uint64_t(k + 1023) << 52;
+  double p;
+  std::memcpy(&p, &bits, sizeof p);
+  return x * p;
+}
+
 using M = ExactMargins;
 constexpr double kU = M::u;
 
@@ -418,7 +428,7 @@ void build_combinations(ExactCertifiedFrustum& f) {
     double lambda[3], dl[3], largest = 0.0;
     for (int q = 0; q < k; ++q) largest = std::max(largest, lambda_in[q]);
     const int e = std::ilogb(largest);
-    for (int q = 0; q < k; ++q) lambda[q] = std::scalbn(lambda_in[q], -e), dl[q] = std::scalbn(dl_in[q], -e);
+    for (int q = 0; q < k; ++q) lambda[q] = times_pow2(lambda_in[q], -e), dl[q] = times_pow2(dl_in[q], -e);
     ExactCertifiedFrustum::Combination c;
     double sa = 0.0, sd = 0.0, ea = 0.0, ed = 0.0;
     unsigned mask = 0;
@@ -500,7 +510,7 @@ void build_float_items(ExactCertifiedFrustum& f) {
     const double a = std::abs(cx) + std::abs(cy) + std::abs(cz);
     int e = a > 0.0 ? std::ilogb(a) : d != 0.0 ? std::ilogb(std::abs(d)) - 100 : 0;
     if (d != 0.0) e = std::max(e, std::ilogb(std::abs(d)) - 100);
-    const double c[3] = {std::ldexp(cx, -e), std::ldexp(cy, -e), std::ldexp(cz, -e)}, ds = std::ldexp(d, -e);
+    const double c[3] = {times_pow2(cx, -e), times_pow2(cy, -e), times_pow2(cz, -e)}, ds = times_pow2(d, -e);
     ExactCertifiedFrustum::FloatItem q;
     q.cx = float(c[0]), q.cy = float(c[1]), q.cz = float(c[2]), q.d = float(ds);
     q.planes = planes;
@@ -509,10 +519,10 @@ void build_float_items(ExactCertifiedFrustum& f) {
     for (int k = 0; k < 6 && m < 3; ++k)
       if (planes >> k & 1u) q.member[m++] = std::uint8_t(k);
     for (std::size_t i = m; i < 3; ++i) q.member[i] = q.member[m - 1];
-    double e1 = up(std::ldexp(k1, -e));
+    double e1 = up(times_pow2(k1, -e));
     for (int i = 0; i < 3; ++i) e1 += uf * std::abs(c[i]) + tiny;
     const double af = double(std::abs(q.cx)) + double(std::abs(q.cy)) + double(std::abs(q.cz));
-    const double e0 = up(std::ldexp(k0, -e)) + uf * std::abs(ds) + tiny;
+    const double e0 = up(times_pow2(k0, -e)) + uf * std::abs(ds) + tiny;
     q.t = float_at_least(up((e1 + F::kEval * uf * af) * widen));
     q.delta = float_at_least(up((e0 + F::kEval * uf * std::abs(double(q.d))) * widen + F::kUnderflow));
     const bool finite = std::isfinite(q.cx) && std::isfinite(q.cy) && std::isfinite(q.cz) && std::isfinite(q.d) &&
@@ -572,10 +582,10 @@ ExactCertifiedFrustum prepare_exact_certified(const CaseFrustum& cf) {
     const int e = std::ilogb(std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]));
     ExactCertifiedPlane& p = f.plane[std::size_t(f.count++)];
     p.index = k;
-    p.nx = std::ldexp(n[0], -e);
-    p.ny = std::ldexp(n[1], -e);
-    p.nz = std::ldexp(n[2], -e);
-    p.d = std::ldexp(d, -e);
+    p.nx = times_pow2(n[0], -e);
+    p.ny = times_pow2(n[1], -e);
+    p.nz = times_pow2(n[2], -e);
+    p.d = times_pow2(d, -e);
     p.a = up(std::abs(p.nx) + std::abs(p.ny) + std::abs(p.nz));
     p.ad = std::abs(p.d);
     p.norm = std::sqrt(p.nx * p.nx + p.ny * p.ny + p.nz * p.nz);

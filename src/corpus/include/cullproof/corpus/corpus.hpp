@@ -131,8 +131,10 @@ class CorpusSources {
   CorpusSources(const std::filesystem::path& dir, const std::string& method, gen::Distribution d);
   /// The record of m's error of class `cls` on case `index` drawn from `seed`, if one is held
   /// whose truth the oracle still gives and on whose case (or camera path) m still gives the
-  /// recorded verdict; its id, written = false and whether it breaks m's claim as judged now.
-  std::optional<CorpusRecord> held(const Method& m, std::uint64_t seed, std::uint64_t index, ErrorClass cls) const;
+  /// recorded verdict; its id, written = false and, with `judge`, whether it breaks m's claim as
+  /// judged now (without, `violates` is false: the distance is not measured).
+  std::optional<CorpusRecord> held(const Method& m, std::uint64_t seed, std::uint64_t index, ErrorClass cls,
+                                   bool judge = true) const;
   /// How many records were read.
   std::size_t size() const noexcept { return entries_.size(); }
 
