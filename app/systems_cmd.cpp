@@ -95,16 +95,25 @@ nlohmann::json print_tallies(const System& s, const std::vector<scenes::FamilyTa
   fmt::print("{} ({}, claim {}, {})\n", s.name, to_string(s.origin), to_string(s.claim), s.description);
   std::size_t w = 13;  // the family column: as wide as the longest name (a scene's may be long)
   for (const scenes::FamilyTally& t : tallies) w = std::max(w, t.family.size());
-  fmt::print("  {:<{}} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", "family", w, "runs", "object-frames", "broken",
-             "F.rej", "F.ins", "false-intersect % [95%]", "cull ns", "judge ns");
+  // A program's own time for its culls ("ns"), where it reports one: per object-frame and per
+  // frame, beside cullproof's clock (which takes in the messages).
+  bool own = false;
+  for (const scenes::FamilyTally& t : tallies) own = own || t.own_culls > 0;
+  fmt::print("  {:<{}} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}{}\n", "family", w, "runs", "object-frames", "broken",
+             "F.rej", "F.ins", "false-intersect % [95%]", "cull ns", "judge ns",
+             own ? fmt::format(" {:>9} {:>12}", "own ns", "own ns/frame") : std::string());
   nlohmann::json js = {{"system", s.name}, {"claim", std::string(to_string(s.claim))}, {"origin", std::string(to_string(s.origin))},
                        {"families", nlohmann::json::array()}};
   std::uint64_t broken = 0;
   for (const scenes::FamilyTally& t : tallies) {
     const std::uint64_t fi = t.by_class[int(ErrorClass::false_intersect)];
-    fmt::print("  {:<{}} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}\n", t.family, w, t.runs, t.judged, t.claim_broken,
+    fmt::print("  {:<{}} {:>6} {:>13} {:>7} {:>8} {:>8} {:>28} {:>9} {:>9}{}\n", t.family, w, t.runs, t.judged, t.claim_broken,
                t.by_class[int(ErrorClass::false_reject)], t.by_class[int(ErrorClass::false_inside)], percent_ci95(fi, t.truth_outside),
-               per_object(t.cull_seconds, t.judged), per_object(t.judge_seconds, t.judged));
+               per_object(t.cull_seconds, t.judged), per_object(t.judge_seconds, t.judged),
+               !own                ? std::string()
+               : t.own_culls == 0 ? fmt::format(" {:>9} {:>12}", "-", "-")
+                                   : fmt::format(" {:>9.1f} {:>12.0f}", t.own_cull_ns / double(std::max<std::uint64_t>(t.own_object_frames, 1)),
+                                                 t.own_cull_ns / double(t.own_culls)));
     js["families"].push_back({{"family", t.family},
                               {"runs", t.runs},
                               {"object_frames", t.judged},
@@ -115,7 +124,10 @@ nlohmann::json print_tallies(const System& s, const std::vector<scenes::FamilyTa
                               {"truth_outside", t.truth_outside},
                               {"under_inside", t.by_class[int(ErrorClass::under_inside)]},
                               {"cull_seconds", t.cull_seconds},
-                              {"judge_seconds", t.judge_seconds}});
+                              {"judge_seconds", t.judge_seconds},
+                              {"own_cull_ns", t.own_cull_ns},
+                              {"own_culls", t.own_culls},
+                              {"own_object_frames", t.own_object_frames}});
     broken += t.claim_broken;
   }
   js["claim_broken"] = broken;

@@ -1,13 +1,21 @@
-// The cullproof process protocol, version 1 (docs/protocol.md), for C++ engine adapters: the
-// handshake, the frame loop, the answers. An adapter describes its methods and gives two calls
+// The cullproof process protocol, versions 1 and 2 (docs/protocol.md), for C++ engine adapters:
+// the handshake, the frame loop, the answers. An adapter describes its methods and gives two calls
 // per method:
 //   prepare(frame)            untimed: build the engine's own objects from the frame (a plane
 //                             set, a tree of the frame's volumes);
 //   classify(frame, verdicts) timed: the engine's culling calls for all of the frame's volumes,
 //                             one verdict per volume (left as Verdict::none, sent as null, for a
 //                             volume the method does not take).
+// and, for a culling system (version 2), four calls:
+//   build(objects)            the scene's objects, replacing any scene held;
+//   update(moved)             the objects that moved, with their new bounds;
+//   prepare(view)             untimed: what the engine does each frame before it culls (a physics
+//                             step, a matrix to planes);
+//   cull(view, visible)       timed: the visible set, ids (and for a three-way system their
+//                             verdicts, inside or intersecting); an id not listed is outside.
 // Every number is read as a double and rounded to float: that float is the geometry. The answer
-// carries "ns", the steady_clock nanoseconds spent in classify (not parsing, not formatting).
+// carries "ns", the steady_clock nanoseconds spent in classify or cull (not parsing, not
+// formatting).
 //
 // Planes are given to the adapter in double. For a frustum given by a clip matrix they are the
 // Gribb-Hartmann row sums of the float matrix computed in double (docs/semantics.md), as an
@@ -57,12 +65,54 @@ struct Frame {
   bool reset = false;
   std::array<Plane, 6> planes{};
   std::vector<Volume> volumes;
+  // A frustum given by a clip matrix: the float matrix (column-major, clip = M x), its depth
+  // range ("negative_one_to_one" or "zero_to_one") and whether it is reversed-Z.
+  bool has_matrix = false;
+  std::array<float, 16> matrix{};
+  std::string depth;
+  bool reversed_z = false;
 };
 
 struct Method {
   json description;  // the handshake entry
   std::function<void(const Frame&)> prepare;
   std::function<void(const Frame&, std::vector<Verdict>&)> classify;
+};
+
+// A scene object: its stable id, its world volume (the truth is decided on it), its local volume
+// and the column-major transform from local to world.
+struct Object {
+  std::uint32_t id = 0;
+  Volume world{};
+  Volume local{};
+  std::array<float, 16> transform{};
+};
+
+// A frame of a system: the planes as a method frame's (from the clip matrix, in double, where
+// there is one), the camera's matrices (column-major), its eye and axes (right, up, back, column
+// by column; it looks along -back).
+struct View {
+  std::int64_t id = 0;
+  std::array<Plane, 6> planes{};
+  std::array<float, 16> view{}, projection{};
+  Vec3 eye{};
+  std::array<Vec3, 3> axes{};
+  bool perspective = true;
+};
+
+// The answer to a view: the ids drawn; for a three-way system one verdict per id (inside or
+// intersecting), for a two-way one none.
+struct VisibleSet {
+  std::vector<std::uint32_t> ids;
+  std::vector<Verdict> verdicts;
+};
+
+struct System {
+  json description;  // the handshake entry
+  std::function<void(const std::vector<Object>&)> build;
+  std::function<void(const std::vector<Object>&)> update;
+  std::function<void(const View&)> prepare;
+  std::function<void(const View&, VisibleSet&)> cull;
 };
 
 // A handshake entry: a stateless method of a published engine (origin "published": a refuted
@@ -74,6 +124,15 @@ inline json describe(const std::string& name, const std::string& claim, double t
           {"volumes", volumes},     {"three_way", three_way}, {"stateful", false},
           {"origin", "published"},  {"description", description}, {"source", source},
           {"touching", touching}};
+}
+
+// A system's handshake entry (as a method's, without "stateful": a system's state is its own).
+inline json describe_system(const std::string& name, const std::string& claim, double tolerance,
+                            std::vector<std::string> volumes, bool three_way, const std::string& description,
+                            const std::string& source, const std::string& touching) {
+  json j = describe(name, claim, tolerance, std::move(volumes), three_way, description, source, touching);
+  j.erase("stateful");
+  return j;
 }
 
 namespace detail {
@@ -131,21 +190,64 @@ inline std::array<Plane, 6> matrix_planes(const json& frustum) {
           reversed ? lower : upper};
 }
 
+inline std::array<Plane, 6> planes_of(const json& frustum) {
+  if (frustum.contains("matrix")) return matrix_planes(frustum);
+  const json& planes = frustum.at("planes");
+  if (planes.size() != 6) throw std::runtime_error("a frustum of " + std::to_string(planes.size()) + " planes");
+  std::array<Plane, 6> out{};
+  for (std::size_t i = 0; i < 6; ++i) {
+    const json& p = planes[i];
+    out[i] = {number(p.at(0)), number(p.at(1)), number(p.at(2)), number(p.at(3))};
+  }
+  return out;
+}
+
+template <std::size_t N>
+std::array<float, N> numbers(const json& j) {
+  if (j.size() != N) throw std::runtime_error(std::to_string(j.size()) + " numbers where " + std::to_string(N) + " belong");
+  std::array<float, N> out{};
+  for (std::size_t i = 0; i < N; ++i) out[i] = number(j[i]);
+  return out;
+}
+
+inline std::vector<Object> objects(const json& list) {
+  std::vector<Object> out;
+  for (const json& o : list) {
+    Object x;
+    x.id = o.at("id").get<std::uint32_t>();
+    x.world = volume(o.at("world"));
+    x.local = volume(o.at("local"));
+    x.transform = numbers<16>(o.at("transform"));
+    out.push_back(x);
+  }
+  return out;
+}
+
+inline View view(std::int64_t id, const json& v) {
+  View out;
+  out.id = id;
+  out.planes = planes_of(v.at("frustum"));
+  out.view = numbers<16>(v.at("view"));
+  out.projection = numbers<16>(v.at("projection"));
+  out.eye = vec3(v.at("eye"));
+  const auto axes = numbers<9>(v.at("axes"));
+  for (int i = 0; i < 3; ++i) out.axes[std::size_t(i)] = {axes[std::size_t(3 * i)], axes[std::size_t(3 * i + 1)], axes[std::size_t(3 * i + 2)]};
+  out.perspective = v.at("perspective").get<bool>();
+  return out;
+}
+
 inline Frame frame(const json& m) {
   Frame f;
   f.id = m.at("frame").get<std::int64_t>();
   f.method = m.at("method").get<std::string>();
   f.reset = m.value("reset", false);
   const json& frustum = m.at("frustum");
+  f.planes = planes_of(frustum);
   if (frustum.contains("matrix")) {
-    f.planes = matrix_planes(frustum);
-  } else {
-    const json& planes = frustum.at("planes");
-    if (planes.size() != 6) throw std::runtime_error("a frustum of " + std::to_string(planes.size()) + " planes");
-    for (std::size_t i = 0; i < 6; ++i) {
-      const json& p = planes[i];
-      f.planes[i] = {number(p.at(0)), number(p.at(1)), number(p.at(2)), number(p.at(3))};
-    }
+    f.has_matrix = true;
+    f.matrix = numbers<16>(frustum.at("matrix"));
+    f.depth = frustum.at("depth").get<std::string>();
+    f.reversed_z = frustum.value("reversed_z", false);
   }
   for (const json& v : m.at("volumes")) f.volumes.push_back(volume(v));
   return f;
@@ -166,16 +268,25 @@ inline void send(const json& j) { std::cout << j.dump() << '\n' << std::flush; }
 }  // namespace detail
 
 // Speaks the protocol on stdin/stdout until {"bye": true} or the end of input; returns the exit
-// status. A frame that cannot be answered (bad message, unknown method, an exception) is answered
-// with "error", which stops cullproof's run.
-inline int run(const std::vector<Method>& methods) {
+// status. Version 1 when there are no systems, else 2. A message that cannot be answered (bad
+// message, unknown method or system, an exception) is answered with "error", which stops
+// cullproof's run.
+inline int run(const std::vector<Method>& methods, const std::vector<System>& systems = {}) {
   std::ios::sync_with_stdio(false);
-  json hello = {{"protocol", 1}, {"methods", json::array()}};
-  for (const Method& m : methods) hello["methods"].push_back(m.description);
+  json hello = {{"protocol", systems.empty() ? 1 : 2}};
+  if (!methods.empty() || systems.empty()) {
+    hello["methods"] = json::array();
+    for (const Method& m : methods) hello["methods"].push_back(m.description);
+  }
+  if (!systems.empty()) {
+    hello["systems"] = json::array();
+    for (const System& s : systems) hello["systems"].push_back(s.description);
+  }
   detail::send(hello);
 
   std::string line;
   std::vector<Verdict> verdicts;
+  VisibleSet visible;
   while (std::getline(std::cin, line)) {
     if (line.empty()) continue;
     json id;  // the frame number, once known
@@ -184,6 +295,37 @@ inline int run(const std::vector<Method>& methods) {
       const json m = json::parse(line);
       if (m.value("bye", false)) break;
       id = m.at("frame");
+      if (m.contains("system")) {
+        const std::string wanted = m.at("system").get<std::string>();
+        const System* system = nullptr;
+        for (const System& c : systems)
+          if (c.description["name"] == wanted) system = &c;
+        if (!system) throw std::runtime_error("no system named " + wanted);
+        if (m.contains("scene")) {
+          system->build(detail::objects(m.at("scene").at("objects")));
+          answer = {{"frame", id}, {"built", true}};
+        } else if (m.contains("moved")) {
+          system->update(detail::objects(m.at("moved")));
+          answer = {{"frame", id}, {"updated", true}};
+        } else {
+          const View v = detail::view(id.get<std::int64_t>(), m.at("view"));
+          system->prepare(v);
+          visible.ids.clear();
+          visible.verdicts.clear();
+          const auto t0 = std::chrono::steady_clock::now();
+          system->cull(v, visible);
+          const auto t1 = std::chrono::steady_clock::now();
+          answer = {{"frame", id}, {"visible", visible.ids},
+                    {"ns", std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()}};
+          if (!visible.verdicts.empty()) {
+            json out = json::array();
+            for (Verdict x : visible.verdicts) out.push_back(detail::name(x));
+            answer["verdicts"] = std::move(out);
+          }
+        }
+        detail::send(answer);
+        continue;
+      }
       const Frame f = detail::frame(m);
       const Method* method = nullptr;
       for (const Method& c : methods)

@@ -20,6 +20,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -570,9 +571,13 @@ class ExternalSystemState final : public SystemState {
     exchange(p, fmt::format("{{\"frame\": {}, \"system\": {}, \"view\": {}}}", id, json(s_->info.name).dump(), view_text(view)),
              fmt::format("cull message {} (system '{}', a scene of {} object(s))", id, s_->info.name, objects_),
              [&](const std::string& line, const std::string& what) {
-               out = protocol::parse_visible(line, id, objects_, s_->info.three_way, what).set;
+               protocol::VisibleReply reply = protocol::parse_visible(line, id, objects_, s_->info.three_way, what);
+               out = std::move(reply.set);
+               last_ns_ = reply.ns ? *reply.ns : std::numeric_limits<double>::quiet_NaN();
              });
   }
+
+  double last_cull_ns() const override { return last_ns_; }
 
  private:
   // Whether the program may be asked for this state: alive, and this state's scene still its.
@@ -598,6 +603,7 @@ class ExternalSystemState final : public SystemState {
   }
 
   std::shared_ptr<ExternalSystem> s_;
+  double last_ns_ = std::numeric_limits<double>::quiet_NaN();  // the program's "ns" for the last cull
   std::uint64_t scene_ = 0;
   std::size_t objects_ = 0;
 };

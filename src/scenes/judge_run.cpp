@@ -5,6 +5,7 @@
 #include "cullproof/gen/generators.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <exception>
 
 namespace cullproof::scenes {
@@ -93,6 +94,7 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
     set.clear();
     guarded(system, "cull", k, [&] { state->cull(frame.view, set); });
     j.cull_seconds += seconds_since(t);
+    const double own = state->last_cull_ns();
     try {
       verdicts_by_position(system, position, set, verdicts);
     } catch (const std::exception& e) {
@@ -102,6 +104,7 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
     t = Clock::now();
     const CaseFrustum& f = frame.view.frustum;
     truths.decide(f, truth);
+    const std::uint64_t judged_before = j.judged;
     for (std::size_t i = 0; i < world.size(); ++i) {
       const Volume& v = world[i];
       if (!system.takes(v)) continue;
@@ -124,6 +127,11 @@ RunJudgement judge_run(const System& system, const SceneRun& run) {
       }
     }
     j.judge_seconds += seconds_since(t);
+    if (!std::isnan(own)) {
+      j.own_cull_ns += own;
+      ++j.own_culls;
+      j.own_object_frames += j.judged - judged_before;
+    }
   }
   j.oracle_calls = truths.oracle_calls();
   j.exact_decisions = truths.exact_decisions();
@@ -148,6 +156,9 @@ void tally_run(const System& system, SceneRun run, const std::string& which, Fam
   t.claim_broken += j.claim_broken;
   t.cull_seconds += j.cull_seconds;
   t.judge_seconds += j.judge_seconds;
+  t.own_cull_ns += j.own_cull_ns;
+  t.own_culls += j.own_culls;
+  t.own_object_frames += j.own_object_frames;
   for (int c = 0; c < 5; ++c) t.by_class[c] += j.by_class[c];
   if (j.first_broken && !t.broken) {
     t.broken = j.first_broken;

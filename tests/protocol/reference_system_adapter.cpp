@@ -1,6 +1,7 @@
 // A culling system behind the process protocol, version 2, written from docs/protocol.md alone
 // (nothing of cullproof linked): a flat loop over the scene's objects, each tested by its
-// enclosing box (worked out in double, rounded outward to float) with the n/p-vertex test.
+// enclosing box (worked out in double, rounded outward to float) with the n/p-vertex test. Its
+// answers report its own time for the loop ("ns").
 //
 // argv[1] plants a fault for the tests: "drop-near" (the near plane forgotten: a claim to refute),
 // "crash-on-scene", "hang-on-cull", "wrong-count" (one verdict fewer than ids), "unknown-id".
@@ -121,6 +122,7 @@ int main(int argc, char** argv) {
       for (int i = 0; i < 6; ++i)
         for (int k = 0; k < 4; ++k) planes[i][k] = m["view"]["frustum"]["planes"][i][k].get<float>();
       json visible = json::array(), verdicts = json::array();
+      const auto t0 = std::chrono::steady_clock::now();
       for (std::uint32_t id : order) {
         const int r = classify(planes, boxes[id], fault == "drop-near");
         if (r == 0) continue;
@@ -132,7 +134,8 @@ int main(int argc, char** argv) {
         if (verdicts.empty()) verdicts.push_back("inside");
         else verdicts.erase(verdicts.size() - 1);
       }
-      answer({{"frame", frame}, {"visible", visible}, {"verdicts", verdicts}});
+      const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+      answer({{"frame", frame}, {"visible", visible}, {"verdicts", verdicts}, {"ns", ns}});
     } else {
       answer({{"frame", frame}, {"error", "unknown message"}});
     }

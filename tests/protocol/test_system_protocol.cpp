@@ -48,6 +48,25 @@ TEST(SystemProtocol, ReferenceAdapterHoldsItsClaimOnEveryFamily) {
   EXPECT_TRUE(cullproof::testing::system_holds(s, small()));
 }
 
+TEST(SystemProtocol, AProgramsOwnCullTimeIsTalliedApartFromCullproofsClock) {
+  scenes::VerifyRuns runs;
+  runs.runs = 1;
+  runs.size = {40, 5};
+  runs.families = {"clusters", "instances"};
+  // The reference adapter reports "ns" for every cull: every frame counts, with its object-frames.
+  for (const scenes::FamilyTally& t : scenes::verify_system(reference(), runs)) {
+    EXPECT_EQ(t.own_culls, 5u) << t.family;
+    EXPECT_EQ(t.own_object_frames, t.judged) << t.family;
+    EXPECT_GT(t.own_cull_ns, 0.0) << t.family;
+    EXPECT_LT(t.own_cull_ns * 1e-9, t.cull_seconds) << t.family << ": its own time is part of what cullproof's clock saw";
+  }
+  // A system that reports none (cullproof's own) has none tallied.
+  for (const scenes::FamilyTally& t : scenes::verify_system(builtin_systems({"bvh-masked"}).front(), runs)) {
+    EXPECT_EQ(t.own_culls, 0u) << t.family;
+    EXPECT_EQ(t.own_cull_ns, 0.0) << t.family;
+  }
+}
+
 TEST(SystemProtocol, ItsPlantedBugIsRefutedAndShrunk) {
   const ::testing::AssertionResult r = cullproof::testing::system_holds(reference("drop-near"), small());
   ASSERT_FALSE(r);

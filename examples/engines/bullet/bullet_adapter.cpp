@@ -29,10 +29,19 @@
 // switch over the sign index (0..7, every case present) has no default. Not our code to change.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
 #include <BulletCollision/BroadphaseCollision/btDbvt.h>
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
 #pragma GCC diagnostic pop
 
 #include <cstdint>
+#include <memory>
+#include <unordered_map>
 
 namespace cp = cullproof_adapter;
 
@@ -137,6 +146,100 @@ struct Classify {
   }
 };
 
+// ---- The broadphase as a culling system -----------------------------------------------------
+
+// The proxy bounds of a scene object as a Bullet world computes them for its collision objects:
+// btCollisionShape::getAabb(world transform) of a btBoxShape (an OBB: its half extents, the basis
+// of its axes, the default collision margin, which the box's implicit dimensions are stored
+// without and getAabb adds back) or a btSphereShape (centre +- radius, its margin); an AABB is
+// given as its corners, a point as a degenerate box.
+void object_aabb(const cp::Volume& v, btVector3& lo, btVector3& hi) {
+  const auto vec = [](const cp::Vec3& x) { return btVector3(btScalar(x[0]), btScalar(x[1]), btScalar(x[2])); };
+  switch (v.kind) {
+    case cp::Volume::Kind::point: lo = hi = vec(v.p); return;
+    case cp::Volume::Kind::aabb: lo = vec(v.p), hi = vec(v.q); return;
+    case cp::Volume::Kind::sphere: {
+      btSphereShape shape(btScalar(v.radius));
+      btTransform t;
+      t.setIdentity();
+      t.setOrigin(vec(v.p));
+      shape.getAabb(t, lo, hi);
+      return;
+    }
+    case cp::Volume::Kind::obb: {
+      btBoxShape shape(vec(v.q));
+      const auto& a = v.axes;  // columns
+      btTransform t(btMatrix3x3(a[0][0], a[1][0], a[2][0], a[0][1], a[1][1], a[2][1], a[0][2], a[1][2], a[2][2]), vec(v.p));
+      shape.getAabb(t, lo, hi);
+      return;
+    }
+  }
+}
+
+// collideKDOP's and collideOCL's policy for a broadphase tree: the leaf's data is its proxy,
+// whose client object is the scene id.
+struct CollectVisible : btDbvt::ICollide {
+  using btDbvt::ICollide::Process;
+  std::vector<std::uint32_t>* ids = nullptr;
+  void Process(const btDbvtNode* leaf) override {
+    const auto* proxy = static_cast<const btBroadphaseProxy*>(leaf->data);
+    ids->push_back(std::uint32_t(reinterpret_cast<std::uintptr_t>(proxy->m_clientObject)));
+  }
+};
+
+// A btDbvtBroadphase over the scene: one proxy per object (collision filter mask 0: no pairs are
+// wanted), moved objects given their new bounds with setAabb, one calculateOverlappingPairs per
+// frame as a world's step makes it (its incremental tree optimisation, and proxies that stop
+// moving passed from the dynamic tree to the fixed one), then both trees culled with the frame's
+// six planes.
+struct Broadphase {
+  bool ocl = false;
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  std::unique_ptr<btDbvtBroadphase> bp;
+  std::unordered_map<std::uint32_t, btBroadphaseProxy*> proxies;
+  Planes p{};
+
+  void build(const std::vector<cp::Object>& objects) {
+    proxies.clear();
+    bp = std::make_unique<btDbvtBroadphase>();
+    btVector3 lo, hi;
+    for (const cp::Object& o : objects) {
+      object_aabb(o.world, lo, hi);
+      void* client = reinterpret_cast<void*>(std::uintptr_t(o.id));
+      proxies[o.id] = bp->createProxy(lo, hi, BOX_SHAPE_PROXYTYPE, client, 1, 0, &dispatcher);
+    }
+  }
+
+  void update(const std::vector<cp::Object>& moved) {
+    btVector3 lo, hi;
+    for (const cp::Object& o : moved) {
+      const auto it = proxies.find(o.id);
+      if (it == proxies.end()) throw std::runtime_error("moved object " + std::to_string(o.id) + " is not in the scene");
+      object_aabb(o.world, lo, hi);
+      bp->setAabb(it->second, lo, hi, &dispatcher);
+    }
+  }
+
+  void prepare(const cp::View& v) {
+    bp->calculateOverlappingPairs(&dispatcher);
+    cp::Frame f;
+    f.planes = v.planes;
+    p = planes(f);
+  }
+
+  void cull(const cp::View& v, cp::VisibleSet& out) {
+    CollectVisible policy;
+    policy.ids = &out.ids;
+    // The camera looks along -back: nearer nodes first in collideOCL.
+    const btVector3 ahead(-btScalar(v.axes[2][0]), -btScalar(v.axes[2][1]), -btScalar(v.axes[2][2]));
+    for (const btDbvt& tree : bp->m_sets) {
+      if (ocl) btDbvt::collideOCL(tree.m_root, p.normals, p.offsets, ahead, 6, policy);
+      else btDbvt::collideKDOP(tree.m_root, p.normals, p.offsets, 6, policy);
+    }
+  }
+};
+
 }  // namespace
 
 int main() {
@@ -161,5 +264,24 @@ int main() {
                                     "and a point on a plane, is inside"),
        [&classify](const cp::Frame& f) { classify.p = planes(f); },
        [&classify](const cp::Frame& f, std::vector<cp::Verdict>& out) { classify.classify(f, out); }}};
-  return cp::run(methods);
+  Broadphase kdop, ocl;
+  ocl.ocl = true;
+  const std::string system_touching = "kept, as bullet-dbvt-" + kConfig + ": a node is culled only when its p-corner's value is < 0";
+  auto system = [&](Broadphase& b, const std::string& call) {
+    return cp::System{
+        cp::describe_system("bullet-broadphase-" + std::string(b.ocl ? "ocl-" : "kdop-") + kConfig, "conservative", kTolerance,
+                            {"aabb", "sphere", "obb", "point"}, false,
+                            "btDbvtBroadphase over the scene (proxy bounds from btBoxShape / btSphereShape::getAabb), "
+                            "objects moved with setAabb, a calculateOverlappingPairs per frame, both trees culled with " + call,
+                            "Bullet 3.24 (Debian libbullet-dev 3.24+dfsg-2, " + kPc + "), BulletCollision/BroadphaseCollision/"
+                            "btDbvtBroadphase.cpp (createProxy, setAabb, calculateOverlappingPairs) and btDbvt.h (" + call + ")",
+                            system_touching),
+        [&b](const std::vector<cp::Object>& o) { b.build(o); },
+        [&b](const std::vector<cp::Object>& o) { b.update(o); },
+        [&b](const cp::View& v) { b.prepare(v); },
+        [&b](const cp::View& v, cp::VisibleSet& out) { b.cull(v, out); }};
+  };
+  const std::vector<cp::System> systems{system(kdop, "btDbvt::collideKDOP (plane masks handed to children)"),
+                                        system(ocl, "btDbvt::collideOCL (masks, children nearest first along the view)")};
+  return cp::run(methods, systems);
 }

@@ -1,8 +1,9 @@
 // The cullproof process protocol, version 1 (docs/protocol.md), for Node adapters.
 //
 // serve(methods) sends the handshake, then answers each frame line by line until {"bye": true}.
-// A method is { hello, frame }: `hello` is its handshake entry; `frame(planes)` is called once per
-// frame with the six planes and returns { prepare(volume) -> item, classify(item) -> verdict }.
+// A method is { hello, frame }: `hello` is its handshake entry; `frame(planes, frustum)` is called
+// once per frame with the six planes (and the frame's frustum as sent, for an engine that builds its
+// own from a clip matrix) and returns { prepare(volume) -> item, classify(item) -> verdict }.
 // `prepare` turns a parsed volume into the engine's own object (conversion, like parsing: not
 // timed); `classify` is the engine's culling call, and the loop of classify calls over the frame's
 // volumes is what the answer's "ns" field times (process.hrtime.bigint()). A verdict is
@@ -71,7 +72,7 @@ function answer(methods, m) {
   if (m.reset && method.reset) method.reset();
   const planes = m.frustum.matrix ? matrixPlanes(m.frustum) : m.frustum.planes.map((p) => p.map(f));
   const items = [];
-  const { prepare, classify } = method.frame(planes);
+  const { prepare, classify } = method.frame(planes, m.frustum);
   for (const v of m.volumes) items.push(prepare(parseVolume(v)));
   const verdicts = new Array(items.length);
   const t0 = process.hrtime.bigint();

@@ -114,6 +114,10 @@ struct RunJudgement {
   std::optional<Finding> first_broken, first_error;
   double cull_seconds = 0.0;  ///< build, updates and culls
   double judge_seconds = 0.0;  ///< the exact truth of every object-frame
+  /// The system's own time for its culls, where it reports one (SystemState::last_cull_ns): the
+  /// sum over the `own_culls` frames that reported it, and the object-frames of those frames.
+  double own_cull_ns = 0.0;
+  std::uint64_t own_culls = 0, own_object_frames = 0;
   std::uint64_t oracle_calls = 0;  ///< the object-frames the oracle decided
   std::uint64_t exact_decisions = 0;  ///< those the exact-certified cascade decided (the others were proved certified)
 };
@@ -184,6 +188,9 @@ struct FamilyTally {
   std::uint64_t runs = 0, judged = 0, truth_outside = 0, claim_broken = 0;
   std::uint64_t by_class[5] = {};  ///< per ErrorClass
   double cull_seconds = 0.0, judge_seconds = 0.0;
+  /// The system's own time for its culls, as RunJudgement's, summed over the runs.
+  double own_cull_ns = 0.0;
+  std::uint64_t own_culls = 0, own_object_frames = 0;
   /// The first run whose claim broke, and what broke it.
   std::optional<SceneRun> broken_run;
   std::optional<Finding> broken;

@@ -43,6 +43,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -91,6 +92,10 @@ class SystemState {
   virtual ~SystemState() = default;
   virtual void update(const std::vector<SceneObject>& moved) = 0;
   virtual void cull(const CullView& view, VisibleSet& out) = 0;
+  /// The system's own time for its last cull in nanoseconds, where it reports one (a program's
+  /// "ns", docs/protocol.md); NaN otherwise. cullproof's clock around cull() takes in what
+  /// reaching the system costs (a program's messages), this does not.
+  virtual double last_cull_ns() const { return std::numeric_limits<double>::quiet_NaN(); }
 };
 
 /// One system: its description and its builder.
