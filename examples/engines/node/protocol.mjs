@@ -1,6 +1,7 @@
-// The cullproof process protocol, version 1 (docs/protocol.md), for Node adapters.
+// The cullproof process protocol, versions 1 and 2 (docs/protocol.md), for Node adapters.
 //
-// serve(methods) sends the handshake, then answers each frame line by line until {"bye": true}.
+// serve(methods, systems) sends the handshake, then answers each frame line by line until
+// {"bye": true}.
 // A method is { hello, frame }: `hello` is its handshake entry; `frame(planes, frustum)` is called
 // once per frame with the six planes (and the frame's frustum as sent, for an engine that builds its
 // own from a clip matrix) and returns { prepare(volume) -> item, classify(item) -> verdict }.
@@ -9,6 +10,11 @@
 // volumes is what the answer's "ns" field times (process.hrtime.bigint()). A verdict is
 // "outside", "intersecting", "inside" or null (does not apply). No method here is stateful, so
 // `reset` is passed to `method.reset` only if a method defines it.
+// A system (version 2) is { hello, build(objects), update(moved), prepare(view), cull(view) }:
+// `objects` and `moved` are lists of { id, world, local, transform } (volumes as below, the
+// transform 16 floats, column-major); `view` is { frustum, planes, view, projection, eye, axes,
+// perspective } with `planes` as a method frame's; `prepare` is what the engine does each frame
+// before it culls (untimed), `cull` returns the ids drawn, two-way (timed: the answer's "ns").
 //
 // Numbers: every number of a frame is read as a double and rounded with Math.fround; that float
 // is the geometry. Planes are [a, b, c, d], a*x + b*y + c*z + d >= 0 inside, in the order left,
@@ -81,12 +87,45 @@ function answer(methods, m) {
   return { frame: m.frame, verdicts, ns };
 }
 
-export function serve(list) {
+function answerSystem(systems, m) {
+  const system = systems.get(m.system);
+  if (!system) return { frame: m.frame, error: `no system named ${JSON.stringify(m.system)}` };
+  const objects = (list) =>
+    list.map((o) => ({ id: o.id, world: parseVolume(o.world), local: parseVolume(o.local), transform: o.transform.map(f) }));
+  if (m.scene) {
+    system.build(objects(m.scene.objects));
+    return { frame: m.frame, built: true };
+  }
+  if (m.moved) {
+    system.update(objects(m.moved));
+    return { frame: m.frame, updated: true };
+  }
+  const v = m.view;
+  const view = {
+    frustum: v.frustum,
+    planes: v.frustum.matrix ? matrixPlanes(v.frustum) : v.frustum.planes.map((p) => p.map(f)),
+    view: v.view.map(f),
+    projection: v.projection.map(f),
+    eye: vec(v.eye),
+    axes: v.axes.map(f),
+    perspective: v.perspective,
+  };
+  system.prepare(view);
+  const t0 = process.hrtime.bigint();
+  const visible = system.cull(view);
+  const ns = Number(process.hrtime.bigint() - t0);
+  return { frame: m.frame, visible, ns };
+}
+
+export function serve(list, systemList = []) {
   const methods = new Map(list.map((m) => [m.hello.name, m]));
-  const hello = list.map((m) => ({ stateful: false, ...m.hello }));
+  const systems = new Map(systemList.map((s) => [s.hello.name, s]));
+  const hello = { protocol: systemList.length ? 2 : 1 };
+  if (list.length || !systemList.length) hello.methods = list.map((m) => ({ stateful: false, ...m.hello }));
+  if (systemList.length) hello.systems = systemList.map((s) => s.hello);
   // Writes to a pipe are synchronous in Node on Linux, so each line is flushed as it is written.
   const send = (obj) => process.stdout.write(JSON.stringify(obj) + '\n');
-  send({ protocol: 1, methods: hello });
+  send(hello);
   const rl = createInterface({ input: process.stdin, crlfDelay: Infinity });
   rl.on('line', (line) => {
     if (line.trim() === '') return;
@@ -98,7 +137,7 @@ export function serve(list) {
     }
     let out;
     try {
-      out = answer(methods, m);
+      out = m.system !== undefined ? answerSystem(systems, m) : answer(methods, m);
     } catch (e) {
       out = { frame: m.frame, error: `${e.name}: ${e.message}` };
     }
