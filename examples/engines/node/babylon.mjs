@@ -30,15 +30,122 @@
 //   through c +- (0, 0, r) and |max - min| / 2.
 // - Point: Vector3, Frustum.IsPointInFrustum.
 // Tolerance 1e-12: all of it in double on float inputs; no float32 step is in the path.
+//
+// The systems babylon-scene and babylon-scene-octree (protocol version 2): what a Scene selects
+// as its active meshes each frame (Scene._evaluateActiveMeshes, scene.pure.js): the candidates
+// (every mesh of the scene, or with the selection octree Scene.createOrUpdateSelectionOctree
+// (Culling/Octrees/octreeSceneComponent.pure.js) the meshes of the octree blocks whose boxes
+// Octree.select keeps), then per candidate mesh.isInFrustum(frustumPlanes): the mesh's bounding
+// info under its world matrix, by the default strategy CULLINGSTRATEGY_BOUNDINGSPHERE_ONLY (the
+// sphere about the bounding box, BoundingSphere.isInFrustum's `<= -radius`). Each object is a
+// Mesh of a NullEngine scene (Babylon's engine for Node, no GPU), its vertices its local volume's
+// corners (VertexData.applyToMesh: float32 positions; a sphere's box's corners, a point one
+// vertex), placed by its transform with freezeWorldMatrix (the transform's 16 numbers are
+// Babylon's row-vector layout of the same matrix). A moved object gets its new world matrix (a new
+// mesh when its local volume changed), and the octree is made again after every move, as Babylon
+// documents for meshes that move (createOrUpdateSelectionOctree). The frustum planes are ours
+// divided by |n| in double, as Frustum.GetPlanes normalises them; a plane with n = 0 becomes
+// Plane(0, 0, 0, 1), which keeps everything (a frustum with a no-space plane then keeps what it
+// should not: false intersects only).
+// Tolerance 1e-6: the vertices are float32.
 import { Plane } from '@babylonjs/core/Maths/math.plane.js';
 import { Vector3, Matrix } from '@babylonjs/core/Maths/math.vector.js';
 import { Frustum } from '@babylonjs/core/Maths/math.frustum.js';
 import { BoundingBox } from '@babylonjs/core/Culling/boundingBox.js';
 import { BoundingSphere } from '@babylonjs/core/Culling/boundingSphere.js';
 import { PerformanceConfigurator } from '@babylonjs/core/Engines/performanceConfigurator.js';
+import { NullEngine } from '@babylonjs/core/Engines/nullEngine.js';
+import { Scene } from '@babylonjs/core/scene.js';
+import { Mesh } from '@babylonjs/core/Meshes/mesh.js';
+import { VertexData } from '@babylonjs/core/Meshes/mesh.vertexData.js';
+import { Logger } from '@babylonjs/core/Misc/logger.js';
+import '@babylonjs/core/Culling/Octrees/octreeSceneComponent.js';
 import { serve, unitPlanes } from './protocol.mjs';
 
 PerformanceConfigurator.SetMatrixPrecision(true);
+Logger.LogLevels = Logger.NoneLogLevel;  // standard output carries the protocol: no engine banner
+
+// The corners of a local volume, the vertices of its mesh.
+function corners(v) {
+  if (v.kind === 'point') return [v.p];
+  const box = (lo, hi) => Array.from({ length: 8 }, (_, m) => [0, 1, 2].map((k) => ((m >> k) & 1 ? hi[k] : lo[k])));
+  if (v.kind === 'aabb') return box(v.min, v.max);
+  if (v.kind === 'sphere') return box(v.center.map((c) => c - v.radius), v.center.map((c) => c + v.radius));
+  return Array.from({ length: 8 }, (_, m) =>
+    [0, 1, 2].map((k) => v.center[k] + [0, 1, 2].reduce((s, i) => s + ((m >> i) & 1 ? 1 : -1) * v.half[i] * v.axes[i][k], 0)));
+}
+
+let engine = null;  // made with the first scene
+
+// A Babylon scene as a culling system, with or without its selection octree.
+function sceneSystem(name, octree) {
+  return {
+    hello: {
+      name,
+      origin: 'published',
+      claim: 'conservative',
+      tolerance: 1e-6,
+      volumes: ['aabb', 'sphere', 'obb', 'point'],
+      three_way: false,
+      description: octree
+        ? "Babylon's active-mesh selection with the scene's selection octree: octree blocks by their boxes, then each mesh's bounding sphere"
+        : "Babylon's active-mesh selection: each mesh's bounding sphere under its world matrix (CULLINGSTRATEGY_BOUNDINGSPHERE_ONLY)",
+      source:
+        `${source}, Scene._evaluateActiveMeshes (scene.pure.js), AbstractMesh.isInFrustum, BoundingInfo.isInFrustum` +
+        (octree ? ', Scene.createOrUpdateSelectionOctree, Octree.select (Culling/Octrees)' : ''),
+      touching: 'culled: a mesh is outside when its bounding sphere has dotCoordinate(centre) <= -radius for a plane',
+    },
+    scene: null,
+    meshes: new Map(),
+    planes: null,
+    mesh(o) {
+      const m = new Mesh(`o${o.id}`, this.scene);
+      const data = new VertexData();
+      data.positions = corners(o.local).flat();
+      data.indices = [];
+      data.applyToMesh(m);
+      m.freezeWorldMatrix(Matrix.FromArray(o.transform));
+      m.metadata = { id: o.id, local: JSON.stringify(o.local) };
+      return m;
+    },
+    build(objects) {
+      engine ??= new NullEngine();
+      if (this.scene) this.scene.dispose();
+      this.scene = new Scene(engine);
+      this.meshes = new Map();
+      for (const o of objects) this.meshes.set(o.id, this.mesh(o));
+      if (octree) this.scene.createOrUpdateSelectionOctree();
+    },
+    update(moved) {
+      for (const o of moved) {
+        const m = this.meshes.get(o.id);
+        if (!m) throw new Error(`moved object ${o.id} is not in the scene`);
+        if (m.metadata.local === JSON.stringify(o.local)) {
+          m.freezeWorldMatrix(Matrix.FromArray(o.transform));
+        } else {
+          m.dispose();
+          this.meshes.set(o.id, this.mesh(o));
+        }
+      }
+      if (octree) this.scene.createOrUpdateSelectionOctree();
+    },
+    prepare(view) {
+      const { unit } = unitPlanes(view.planes);
+      this.planes = babylonPlanes(unit.map((p) => p ?? [0, 0, 0, 1]));
+    },
+    cull() {
+      const visible = [];
+      if (octree) {
+        const candidates = this.scene.selectionOctree.select(this.planes);
+        for (let i = 0; i < candidates.length; ++i)
+          if (candidates.data[i].isInFrustum(this.planes)) visible.push(candidates.data[i].metadata.id);
+      } else {
+        for (const m of this.scene.meshes) if (m.isInFrustum(this.planes)) visible.push(m.metadata.id);
+      }
+      return visible;
+    },
+  };
+}
 
 const v3 = ([x, y, z]) => new Vector3(x, y, z);
 const babylonPlanes = (planes) => planes.map(([a, b, c, d]) => new Plane(a, b, c, d));
@@ -111,4 +218,4 @@ serve([
       };
     },
   },
-]);
+], [sceneSystem('babylon-scene', false), sceneSystem('babylon-scene-octree', true)]);
