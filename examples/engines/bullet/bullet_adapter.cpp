@@ -71,10 +71,10 @@ struct Planes {
   int signs[6];
 };
 
-Planes planes(const cp::Frame& f) {
+Planes planes(const std::array<cp::Plane, 6>& given) {
   Planes p;
   for (int i = 0; i < 6; ++i) {
-    const cp::Plane& q = f.planes[i];
+    const cp::Plane& q = given[std::size_t(i)];
     p.normals[i] = btVector3(btScalar(q.a), btScalar(q.b), btScalar(q.c));
     p.offsets[i] = btScalar(q.d);
     const btVector3& n = p.normals[i];
@@ -108,7 +108,7 @@ struct Dbvt {
   btDbvt tree;
 
   void prepare(const cp::Frame& f) {
-    p = planes(f);
+    p = planes(f.planes);
     tree.clear();
     btDbvtAabbMm b;
     for (std::size_t i = 0; i < f.volumes.size(); ++i)
@@ -223,9 +223,7 @@ struct Broadphase {
 
   void prepare(const cp::View& v) {
     bp->calculateOverlappingPairs(&dispatcher);
-    cp::Frame f;
-    f.planes = v.planes;
-    p = planes(f);
+    p = planes(v.planes);
   }
 
   void cull(const cp::View& v, cp::VisibleSet& out) {
@@ -262,7 +260,7 @@ int main() {
                     kSource + "btDbvtAabbMm::FromMM / Classify",
                     touching_kept + "; inside is inclusive (n-corner >= 0), so a box touching a plane from inside, "
                                     "and a point on a plane, is inside"),
-       [&classify](const cp::Frame& f) { classify.p = planes(f); },
+       [&classify](const cp::Frame& f) { classify.p = planes(f.planes); },
        [&classify](const cp::Frame& f, std::vector<cp::Verdict>& out) { classify.classify(f, out); }}};
   Broadphase kdop, ocl;
   ocl.ocl = true;

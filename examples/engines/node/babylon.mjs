@@ -60,20 +60,10 @@ import { Mesh } from '@babylonjs/core/Meshes/mesh.js';
 import { VertexData } from '@babylonjs/core/Meshes/mesh.vertexData.js';
 import { Logger } from '@babylonjs/core/Misc/logger.js';
 import '@babylonjs/core/Culling/Octrees/octreeSceneComponent.js';
-import { serve, unitPlanes } from './protocol.mjs';
+import { corners, localChanged, serve, unitPlanes } from './protocol.mjs';
 
 PerformanceConfigurator.SetMatrixPrecision(true);
 Logger.LogLevels = Logger.NoneLogLevel;  // standard output carries the protocol: no engine banner
-
-// The corners of a local volume, the vertices of its mesh.
-function corners(v) {
-  if (v.kind === 'point') return [v.p];
-  const box = (lo, hi) => Array.from({ length: 8 }, (_, m) => [0, 1, 2].map((k) => ((m >> k) & 1 ? hi[k] : lo[k])));
-  if (v.kind === 'aabb') return box(v.min, v.max);
-  if (v.kind === 'sphere') return box(v.center.map((c) => c - v.radius), v.center.map((c) => c + v.radius));
-  return Array.from({ length: 8 }, (_, m) =>
-    [0, 1, 2].map((k) => v.center[k] + [0, 1, 2].reduce((s, i) => s + ((m >> i) & 1 ? 1 : -1) * v.half[i] * v.axes[i][k], 0)));
-}
 
 let engine = null;  // made with the first scene
 
@@ -105,7 +95,8 @@ function sceneSystem(name, octree) {
       data.indices = [];
       data.applyToMesh(m);
       m.freezeWorldMatrix(Matrix.FromArray(o.transform));
-      m.metadata = { id: o.id, local: JSON.stringify(o.local) };
+      m.metadata = { id: o.id };
+      localChanged(m.metadata, o.local);
       return m;
     },
     build(objects) {
@@ -120,7 +111,7 @@ function sceneSystem(name, octree) {
       for (const o of moved) {
         const m = this.meshes.get(o.id);
         if (!m) throw new Error(`moved object ${o.id} is not in the scene`);
-        if (m.metadata.local === JSON.stringify(o.local)) {
+        if (!localChanged(m.metadata, o.local)) {
           m.freezeWorldMatrix(Matrix.FromArray(o.transform));
         } else {
           m.dispose();

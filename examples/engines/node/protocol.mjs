@@ -40,6 +40,27 @@ export function parseVolume(v) {
   throw new Error(`unknown volume ${JSON.stringify(v)}`);
 }
 
+// The corners of a local volume, the vertices an engine's mesh of it holds (in double; a mesh
+// stores them as float32): a point itself, a box's or an OBB's eight (corner m takes the upper
+// bound on axis k where bit k of m is set), a sphere's box's eight.
+export function corners(v) {
+  if (v.kind === 'point') return [v.p];
+  const box = (lo, hi) => Array.from({ length: 8 }, (_, m) => [0, 1, 2].map((k) => ((m >> k) & 1 ? hi[k] : lo[k])));
+  if (v.kind === 'aabb') return box(v.min, v.max);
+  if (v.kind === 'sphere') return box(v.center.map((c) => c - v.radius), v.center.map((c) => c + v.radius));
+  return Array.from({ length: 8 }, (_, m) =>
+    [0, 1, 2].map((k) => v.center[k] + [0, 1, 2].reduce((s, i) => s + ((m >> i) & 1 ? 1 : -1) * v.half[i] * v.axes[i][k], 0)));
+}
+
+// Whether a moved object's local volume differs from the one its engine object was made from,
+// which `holder.local` keeps (set here: the first call for a holder answers true).
+export function localChanged(holder, local) {
+  const key = JSON.stringify(local);
+  if (holder.local === key) return false;
+  holder.local = key;
+  return true;
+}
+
 // The planes scaled to unit normals, in double (a*a is exact in double for a float a; the sum,
 // the square root and the divisions each round once, relative 2^-53). A plane with n = 0 has no
 // unit form: it is returned as null when it holds all space (d >= 0), and `empty` is set when it

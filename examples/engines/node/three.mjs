@@ -37,7 +37,7 @@ import {
   Frustum, Plane, Vector3, Box3, Sphere, Matrix4, Mesh, Scene, BufferGeometry, BufferAttribute,
   WebGLCoordinateSystem, WebGPUCoordinateSystem,
 } from 'three';
-import { serve, unitPlanes } from './protocol.mjs';
+import { corners, localChanged, serve, unitPlanes } from './protocol.mjs';
 
 const v3 = ([x, y, z]) => new Vector3(x, y, z);
 
@@ -46,17 +46,7 @@ const v3 = ([x, y, z]) => new Vector3(x, y, z);
 // itself as its bounding sphere (with its centre as the one vertex).
 function geometryOf(v) {
   const g = new BufferGeometry();
-  let points;
-  if (v.kind === 'point') points = [v.p];
-  else if (v.kind === 'sphere') points = [v.center];
-  else if (v.kind === 'aabb') {
-    points = [];
-    for (let m = 0; m < 8; ++m) points.push([0, 1, 2].map((k) => ((m >> k) & 1 ? v.max[k] : v.min[k])));
-  } else {
-    points = [];
-    for (let m = 0; m < 8; ++m)
-      points.push([0, 1, 2].map((k) => v.center[k] + [0, 1, 2].reduce((s, i) => s + ((m >> i) & 1 ? 1 : -1) * v.half[i] * v.axes[i][k], 0)));
-  }
+  const points = v.kind === 'sphere' ? [v.center] : corners(v);
   g.setAttribute('position', new BufferAttribute(new Float32Array(points.flat()), 3));
   if (v.kind === 'sphere') g.boundingSphere = new Sphere(v3(v.center), v.radius);
   return g;
@@ -124,7 +114,7 @@ serve([
         const mesh = new Mesh(geometryOf(o.local));
         mesh.matrixAutoUpdate = false;
         mesh.matrix.fromArray(o.transform);
-        mesh.userData.local = JSON.stringify(o.local);
+        localChanged(mesh.userData, o.local);
         this.scene.add(mesh);
         this.meshes.set(o.id, mesh);
       }
@@ -134,11 +124,9 @@ serve([
         const mesh = this.meshes.get(o.id);
         if (!mesh) throw new Error(`moved object ${o.id} is not in the scene`);
         mesh.matrix.fromArray(o.transform);
-        const local = JSON.stringify(o.local);
-        if (local !== mesh.userData.local) {
+        if (localChanged(mesh.userData, o.local)) {
           mesh.geometry.dispose();
           mesh.geometry = geometryOf(o.local);
-          mesh.userData.local = local;
         }
       }
     },
