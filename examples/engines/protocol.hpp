@@ -89,11 +89,16 @@ struct Object {
 };
 
 // A frame of a system: the planes as a method frame's (from the clip matrix, in double, where
-// there is one), the camera's matrices (column-major), its eye and axes (right, up, back, column
-// by column; it looks along -back).
+// there is one), the clip matrix with its depth convention as a method frame's, the camera's
+// matrices (column-major), its eye and axes (right, up, back, column by column; it looks along
+// -back).
 struct View {
   std::int64_t id = 0;
   std::array<Plane, 6> planes{};
+  bool has_matrix = false;
+  std::array<float, 16> matrix{};
+  std::string depth;
+  bool reversed_z = false;
   std::array<float, 16> view{}, projection{};
   Vec3 eye{};
   std::array<Vec3, 3> axes{};
@@ -210,6 +215,16 @@ std::array<float, N> numbers(const json& j) {
   return out;
 }
 
+// A Frame's or a View's clip matrix and its depth convention, where the frustum has one.
+template <class T>
+void clip_of(const json& frustum, T& out) {
+  if (!frustum.contains("matrix")) return;
+  out.has_matrix = true;
+  out.matrix = numbers<16>(frustum.at("matrix"));
+  out.depth = frustum.at("depth").get<std::string>();
+  out.reversed_z = frustum.value("reversed_z", false);
+}
+
 inline std::vector<Object> objects(const json& list) {
   std::vector<Object> out;
   for (const json& o : list) {
@@ -226,7 +241,9 @@ inline std::vector<Object> objects(const json& list) {
 inline View view(std::int64_t id, const json& v) {
   View out;
   out.id = id;
-  out.planes = planes_of(v.at("frustum"));
+  const json& frustum = v.at("frustum");
+  out.planes = planes_of(frustum);
+  clip_of(frustum, out);
   out.view = numbers<16>(v.at("view"));
   out.projection = numbers<16>(v.at("projection"));
   out.eye = vec3(v.at("eye"));
@@ -243,12 +260,7 @@ inline Frame frame(const json& m) {
   f.reset = m.value("reset", false);
   const json& frustum = m.at("frustum");
   f.planes = planes_of(frustum);
-  if (frustum.contains("matrix")) {
-    f.has_matrix = true;
-    f.matrix = numbers<16>(frustum.at("matrix"));
-    f.depth = frustum.at("depth").get<std::string>();
-    f.reversed_z = frustum.value("reversed_z", false);
-  }
+  clip_of(frustum, f);
   for (const json& v : m.at("volumes")) f.volumes.push_back(volume(v));
   return f;
 }

@@ -60,7 +60,7 @@ import { Mesh } from '@babylonjs/core/Meshes/mesh.js';
 import { VertexData } from '@babylonjs/core/Meshes/mesh.vertexData.js';
 import { Logger } from '@babylonjs/core/Misc/logger.js';
 import '@babylonjs/core/Culling/Octrees/octreeSceneComponent.js';
-import { corners, localChanged, serve, unitPlanes } from './protocol.mjs';
+import { corners, engineSystem, localChanged, serve, unitPlanes } from './protocol.mjs';
 
 PerformanceConfigurator.SetMatrixPrecision(true);
 Logger.LogLevels = Logger.NoneLogLevel;  // standard output carries the protocol: no engine banner
@@ -70,21 +70,15 @@ let engine = null;  // made with the first scene
 // A Babylon scene as a culling system, with or without its selection octree.
 function sceneSystem(name, octree) {
   return {
-    hello: {
+    hello: engineSystem(
       name,
-      origin: 'published',
-      claim: 'conservative',
-      tolerance: 1e-6,
-      volumes: ['aabb', 'sphere', 'obb', 'point'],
-      three_way: false,
-      description: octree
+      octree
         ? "Babylon's active-mesh selection with the scene's selection octree: octree blocks by their boxes, then each mesh's bounding sphere"
         : "Babylon's active-mesh selection: each mesh's bounding sphere under its world matrix (CULLINGSTRATEGY_BOUNDINGSPHERE_ONLY)",
-      source:
-        `${source}, Scene._evaluateActiveMeshes (scene.pure.js), AbstractMesh.isInFrustum, BoundingInfo.isInFrustum` +
+      `${source}, Scene._evaluateActiveMeshes (scene.pure.js), AbstractMesh.isInFrustum, BoundingInfo.isInFrustum` +
         (octree ? ', Scene.createOrUpdateSelectionOctree, Octree.select (Culling/Octrees)' : ''),
-      touching: 'culled: a mesh is outside when its bounding sphere has dotCoordinate(centre) <= -radius for a plane',
-    },
+      'culled: a mesh is outside when its bounding sphere has dotCoordinate(centre) <= -radius for a plane',
+    ),
     scene: null,
     meshes: new Map(),
     planes: null,

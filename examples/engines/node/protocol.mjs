@@ -52,6 +52,16 @@ export function corners(v) {
     [0, 1, 2].map((k) => v.center[k] + [0, 1, 2].reduce((s, i) => s + ((m >> i) & 1 ? 1 : -1) * v.half[i] * v.axes[i][k], 0)));
 }
 
+// The handshake entry of an engine's culling system that takes every kind of scene object and
+// answers visible or not: published, claiming "conservative" within float rounding (1e-6 of the
+// scale: an engine's vertices, matrices and planes are float32).
+export function engineSystem(name, description, source, touching) {
+  return {
+    name, origin: 'published', claim: 'conservative', tolerance: 1e-6, volumes: ['aabb', 'sphere', 'obb', 'point'],
+    three_way: false, description, source, touching,
+  };
+}
+
 // Whether a moved object's local volume differs from the one its engine object was made from,
 // which `holder.local` keeps (set here: the first call for a holder answers true).
 export function localChanged(holder, local) {

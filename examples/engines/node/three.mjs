@@ -37,7 +37,7 @@ import {
   Frustum, Plane, Vector3, Box3, Sphere, Matrix4, Mesh, Scene, BufferGeometry, BufferAttribute,
   WebGLCoordinateSystem, WebGPUCoordinateSystem,
 } from 'three';
-import { corners, localChanged, serve, unitPlanes } from './protocol.mjs';
+import { corners, engineSystem, localChanged, serve, unitPlanes } from './protocol.mjs';
 
 const v3 = ([x, y, z]) => new Vector3(x, y, z);
 
@@ -89,20 +89,13 @@ serve([
   },
 ], [
   {
-    hello: {
-      name: 'three-renderer',
-      origin: 'published',
-      claim: 'conservative',
-      tolerance: 1e-6,
-      volumes: ['aabb', 'sphere', 'obb', 'point'],
-      three_way: false,
-      description:
-        "three's WebGLRenderer culling: each Mesh's geometry bounding sphere under its matrixWorld, Frustum.intersectsObject",
-      source:
-        'three 0.187.0, WebGLRenderer.render / projectObject (src/renderers/WebGLRenderer.js), Mesh.intersectsFrustum, ' +
+    hello: engineSystem(
+      'three-renderer',
+      "three's WebGLRenderer culling: each Mesh's geometry bounding sphere under its matrixWorld, Frustum.intersectsObject",
+      'three 0.187.0, WebGLRenderer.render / projectObject (src/renderers/WebGLRenderer.js), Mesh.intersectsFrustum, ' +
         'Frustum.setFromProjectionMatrix / intersectsObject (src/math/Frustum.js), BufferGeometry.computeBoundingSphere',
-      touching: 'kept: a sphere is culled only at a plane distance < -radius',
-    },
+      'kept: a sphere is culled only at a plane distance < -radius',
+    ),
     scene: null,
     meshes: new Map(),
     frustum: new Frustum(),

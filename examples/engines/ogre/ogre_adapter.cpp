@@ -31,6 +31,10 @@
 // distance < -radius (Frustum) or -distance - radius > 0 (PlaneBoundedVolume), a point at
 // distance < 0.
 // Tolerance 1e-6: all of it in float.
+//
+// And two culling systems, a scene culled as a SceneManager culls it for a camera: ogre-scene
+// (the default, generic SceneManager) and ogre-scene-octree (the OctreeSceneManager plugin),
+// described where they are made, below.
 #include "../protocol.hpp"
 
 #pragma GCC diagnostic push
@@ -38,19 +42,28 @@
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 #pragma GCC diagnostic ignored "-Wdeprecated-declarations"
 #include <OgreAxisAlignedBox.h>
+#include <OgreCamera.h>
 #include <OgreDefaultHardwareBufferManager.h>
+#include <OgreException.h>
 #include <OgreFrustum.h>
 #include <OgreLogManager.h>
+#include <OgreManualObject.h>
 #include <OgreMaterialManager.h>
 #include <OgreMatrix4.h>
+#include <OgrePlugin.h>
 #include <OgrePlaneBoundedVolume.h>
 #include <OgreRoot.h>
+#include <OgreSceneManager.h>
+#include <OgreSceneNode.h>
 #include <OgreSphere.h>
 #include <OgreVector.h>
 #pragma GCC diagnostic pop
 
 #include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
 
 namespace cp = cullproof_adapter;
 
@@ -81,35 +94,37 @@ struct Engine {
   }
 };
 
-// The frame's clip matrix as OGRE's row-major Matrix4 (ours is column-major: entry (r, c) is
-// matrix[4 c + r]).
-Ogre::Matrix4 projection(const cp::Frame& f) {
-  const auto& m = f.matrix;
+// A column-major matrix as OGRE's row-major Matrix4 (entry (r, c) is m[4 c + r]).
+Ogre::Matrix4 row_major(const std::array<float, 16>& m) {
   return Ogre::Matrix4(m[0], m[4], m[8], m[12], m[1], m[5], m[9], m[13], m[2], m[6], m[10], m[14], m[3], m[7], m[11], m[15]);
+}
+
+// Whether OGRE's frustum set-up can take a custom projection: for one it maps two clip-space
+// corners back through the inverse (Frustum::calcProjectionParameters: invProj times
+// (-1, 1, -1, 1) and (1, -1, -1, 1), each divided by its w) and makes its bounding box from them
+// (Frustum::updateFrustumImpl), whose AxisAlignedBox::setExtents asserts min <= max: a NaN there
+// (an inverse that is not finite, as for a far-offset camera's clip matrix, singular in float)
+// aborts the engine. The same computation with OGRE's types.
+bool accepted(const Ogre::Matrix4& m) {
+  const Ogre::Matrix4 inv = m.inverse();
+  Ogre::Vector4 top_left = inv * Ogre::Vector4(-1.0f, 1.0f, -1.0f, 1.0f);
+  Ogre::Vector4 bottom_right = inv * Ogre::Vector4(1.0f, -1.0f, -1.0f, 1.0f);
+  top_left /= top_left.w;
+  bottom_right /= bottom_right.w;
+  return !std::isnan(top_left.x) && !std::isnan(top_left.y) && !std::isnan(bottom_right.x) && !std::isnan(bottom_right.y);
 }
 
 struct FrustumMethod {
   Engine* engine = nullptr;
   bool applies = false;
 
+  // A frame whose matrix OGRE cannot take (accepted) does not apply.
   void prepare(const cp::Frame& f) {
-    applies = f.has_matrix && f.depth == "negative_one_to_one" && !f.reversed_z && accepted(projection(f));
-    if (applies) engine->frustum->setCustomProjectionMatrix(true, projection(f));
-  }
-
-  // Whether OGRE's frustum set-up can take the matrix: for a custom projection it maps two
-  // clip-space corners back through the inverse (Frustum::calcProjectionParameters: invProj times
-  // (-1, 1, -1, 1) and (1, -1, -1, 1), each divided by its w) and makes its bounding box from
-  // them (Frustum::updateFrustumImpl), whose AxisAlignedBox::setExtents asserts min <= max: a NaN
-  // there (an inverse that is not finite, as for a far-offset camera's clip matrix, singular in
-  // float) aborts the engine. The same computation with OGRE's types; such a frame does not apply.
-  static bool accepted(const Ogre::Matrix4& m) {
-    const Ogre::Matrix4 inv = m.inverse();
-    Ogre::Vector4 top_left = inv * Ogre::Vector4(-1.0f, 1.0f, -1.0f, 1.0f);
-    Ogre::Vector4 bottom_right = inv * Ogre::Vector4(1.0f, -1.0f, -1.0f, 1.0f);
-    top_left /= top_left.w;
-    bottom_right /= bottom_right.w;
-    return !std::isnan(top_left.x) && !std::isnan(top_left.y) && !std::isnan(bottom_right.x) && !std::isnan(bottom_right.y);
+    applies = false;
+    if (!f.has_matrix || f.depth != "negative_one_to_one" || f.reversed_z) return;
+    const Ogre::Matrix4 m = row_major(f.matrix);
+    applies = accepted(m);
+    if (applies) engine->frustum->setCustomProjectionMatrix(true, m);
   }
 
   void classify(const cp::Frame& f, std::vector<cp::Verdict>& out) const {
@@ -167,6 +182,151 @@ struct PlaneBoundedMethod {
   }
 };
 
+
+// ---- A scene culled by a SceneManager -------------------------------------------------------
+//
+// A scene as an OGRE application builds one: per object a SceneNode under the root node, placed
+// by the engine's decomposition of the object's transform (Affine3::decomposition: position,
+// scale, orientation as a Quaternion, all float), with a ManualObject attached whose vertices are
+// the local volume's (a point list: a box's or an OBB's 8 corners, a sphere's 6 extreme points
+// c +- r along the axes, a point itself); its bounding box is the one ManualObject keeps from its
+// positions, its world box MovableObject::getWorldBoundingBox (that box under the node's full
+// transform, AxisAlignedBox::transform), each node's world box the union of its objects' and its
+// children's (SceneNode::_updateBounds). A moved object gets its node's new position, scale and
+// orientation (and, if its local volume changed, new vertices).
+//
+// A frame is culled as SceneManager::_renderScene culls it, without a render system: the camera
+// given the view's matrices (Frustum::setCustomViewMatrix and setCustomProjectionMatrix, OGRE's
+// projection being OpenGL's, depth in [-1, 1]: a projection of another convention is given as the
+// OpenGL projection of the same frustum, its z row replaced in double and rounded to float:
+// zero-to-one 2 r3 - r4, reversed zero-to-one r4 - 2 r3, reversed [-1, 1] -r3),
+// SceneManager::_updateSceneGraph (transforms and bounds; the octree's nodes moved to their
+// octants), then SceneManager::_findVisibleObjects:
+//   - ogre-scene: the generic manager walks the node tree, culling a node by Camera::isVisible of
+//     its world box (Frustum::isVisible: Plane::getSide of its centre and half size against each
+//     plane, extracted and normalised in float; the far plane skipped when the far distance is 0);
+//   - ogre-scene-octree: OctreeSceneManager::walkOctree: an octant's loose box (twice its size,
+//     Octree::_getCullBounds) by OctreeCamera::getVisibility (NONE, PARTIAL, FULL); a node in a
+//     PARTIAL octant by Camera::isVisible of its world box, every node of a FULL one kept. Its
+//     world ("Size") is set to the scene's bounds when the scene is built (the root node's world
+//     box), as an application sizes the octree to its level; its depth is OGRE's default, 8.
+// Each object that passes reaches RenderQueue::processVisibleObject, whose
+// MovableObject::_notifyCurrentCamera asks the object's Listener::objectRendering: the listener
+// records the object as visible and answers false, so nothing is queued for a render system
+// (there is none).
+struct Visible : Ogre::MovableObject::Listener {
+  std::unordered_map<const Ogre::MovableObject*, std::uint32_t> ids;
+  std::vector<std::uint32_t>* out = nullptr;
+  bool objectRendering(const Ogre::MovableObject* o, const Ogre::Camera*) override {
+    const auto it = ids.find(o);
+    if (it == ids.end()) throw std::runtime_error("a visible object of no scene object");
+    out->push_back(it->second);
+    return false;
+  }
+};
+
+struct Scene {
+  Scene(Engine* e, bool o) : engine(e), octree(o) {}
+  Engine* engine;
+  bool octree;
+  Ogre::SceneManager* sm = nullptr;
+  Ogre::Camera* camera = nullptr;
+  Visible visible;
+  std::unordered_map<std::uint32_t, Ogre::SceneNode*> nodes;
+  std::unordered_map<std::uint32_t, Ogre::ManualObject*> objects;
+
+  static void shape(Ogre::ManualObject& m, const cp::Volume& v) {
+    m.clear();
+    m.begin("BaseWhite", Ogre::RenderOperation::OT_POINT_LIST);
+    switch (v.kind) {
+      case cp::Volume::Kind::point: m.position(vec(v.p)); break;
+      case cp::Volume::Kind::aabb: {
+        const Ogre::AxisAlignedBox b(vec(v.p), vec(v.q));
+        for (const Ogre::Vector3& c : b.getAllCorners()) m.position(c);
+        break;
+      }
+      case cp::Volume::Kind::sphere:
+        for (int axis = 0; axis < 3; ++axis)
+          for (float sign : {-1.0f, 1.0f}) {
+            Ogre::Vector3 x = vec(v.p);
+            x[std::size_t(axis)] += sign * v.radius;
+            m.position(x);
+          }
+        break;
+      case cp::Volume::Kind::obb:
+        for (unsigned i = 0; i < 8; ++i) {
+          Ogre::Vector3 x = vec(v.p);
+          for (std::size_t k = 0; k < 3; ++k) x += vec(v.axes[k]) * ((i >> k & 1u) ? v.q[k] : -v.q[k]);
+          m.position(x);
+        }
+        break;
+    }
+    m.end();
+  }
+
+  static void place(Ogre::SceneNode& n, const std::array<float, 16>& transform) {
+    Ogre::Vector3 position, scale;
+    Ogre::Quaternion orientation;
+    Ogre::Affine3(row_major(transform)).decomposition(position, scale, orientation);
+    n.setPosition(position);
+    n.setScale(scale);
+    n.setOrientation(orientation);
+  }
+
+  void build(const std::vector<cp::Object>& list) {
+    if (sm) engine->root->destroySceneManager(sm);
+    nodes.clear();
+    objects.clear();
+    visible.ids.clear();
+    sm = octree ? engine->root->createSceneManager("OctreeSceneManager") : engine->root->createSceneManager();
+    camera = sm->createCamera("cullproof");
+    for (const cp::Object& o : list) {
+      Ogre::SceneNode* n = sm->getRootSceneNode()->createChildSceneNode();
+      place(*n, o.transform);
+      Ogre::ManualObject* m = sm->createManualObject();
+      shape(*m, o.local);
+      m->setListener(&visible);
+      n->attachObject(m);
+      nodes[o.id] = n;
+      objects[o.id] = m;
+      visible.ids[m] = o.id;
+    }
+    if (octree) {
+      sm->_updateSceneGraph(camera);
+      Ogre::AxisAlignedBox world = sm->getRootSceneNode()->_getWorldAABB();
+      if (!world.isNull()) sm->setOption("Size", &world);
+    }
+  }
+
+  void update(const std::vector<cp::Object>& moved) {
+    for (const cp::Object& o : moved) {
+      const auto it = nodes.find(o.id);
+      if (it == nodes.end()) throw std::runtime_error("moved object " + std::to_string(o.id) + " is not in the scene");
+      place(*it->second, o.transform);
+      shape(*objects[o.id], o.local);
+    }
+  }
+
+  void prepare(const cp::View& v) {
+    std::array<float, 16> p = v.projection;
+    for (std::size_t c = 0; c < 4; ++c) {
+      const double r3 = p[4 * c + 2], r4 = p[4 * c + 3];
+      if (v.depth == "zero_to_one") p[4 * c + 2] = float(v.reversed_z ? r4 - 2 * r3 : 2 * r3 - r4);
+      else if (v.reversed_z) p[4 * c + 2] = float(-r3);
+    }
+    const Ogre::Matrix4 projection = row_major(p);
+    if (!accepted(projection)) throw std::runtime_error("OGRE cannot take this projection: its inverse is not finite in float");
+    camera->setCustomProjectionMatrix(true, projection);
+    camera->setCustomViewMatrix(true, Ogre::Affine3(row_major(v.view)));
+    sm->_updateSceneGraph(camera);
+  }
+
+  void cull(cp::VisibleSet& out) {
+    visible.out = &out.ids;
+    sm->_findVisibleObjects(camera, nullptr, false);
+  }
+};
+
 }  // namespace
 
 int main() {
@@ -194,5 +354,42 @@ int main() {
                     touching),
        [&bounded](const cp::Frame& f) { bounded.prepare(f); },
        [&bounded](const cp::Frame& f, std::vector<cp::Verdict>& out) { bounded.classify(f, out); }}};
-  return cp::run(methods);
+  // The plugin registers its scene-manager factory when initialised, which Root::initialise does
+  // for every plugin once a render system is chosen; without one it is initialised here. Without
+  // the plugin the octree system is not offered (the rest still is).
+  bool octree_plugin = false;
+  try {
+    engine.root->loadPlugin(CULLPROOF_OGRE_PLUGIN_DIR "/Plugin_OctreeSceneManager");
+    for (Ogre::Plugin* plugin : engine.root->getInstalledPlugins())
+      if (plugin->getName() == "Octree Scene Manager") {
+        plugin->initialise();
+        octree_plugin = true;
+      }
+  } catch (const Ogre::Exception& e) {
+    std::cerr << "cullproof_adapter_ogre: no octree scene manager: " << e.getFullDescription() << '\n';
+  }
+  Scene generic(&engine, false), octree(&engine, true);
+  auto system = [](Scene& scene, const std::string& name, const std::string& description, const std::string& source) {
+    return cp::System{
+        cp::describe_system(name, "conservative", kTolerance, {"aabb", "sphere", "obb", "point"}, false,
+                            "a SceneNode and a ManualObject of the local volume's vertices per object; " + description,
+                            kSource + source,
+                            "kept: a node is culled only when its world box lies below -|n| . halfSize on a plane"),
+        [&scene](const std::vector<cp::Object>& o) { scene.build(o); },
+        [&scene](const std::vector<cp::Object>& o) { scene.update(o); },
+        [&scene](const cp::View& v) { scene.prepare(v); },
+        [&scene](const cp::View&, cp::VisibleSet& out) { scene.cull(out); }};
+  };
+  std::vector<cp::System> systems{
+      system(generic, "ogre-scene",
+             "the generic SceneManager's _findVisibleObjects: each node's world box by Camera::isVisible",
+             "OgreMain/src/OgreSceneManager.cpp: SceneManager::_updateSceneGraph, _findVisibleObjects; OgreSceneNode.cpp: "
+             "SceneNode::_findVisibleObjects, _updateBounds; OgreFrustum.cpp: Frustum::isVisible"),
+      system(octree, "ogre-scene-octree",
+             "the OctreeSceneManager's walkOctree: octants' loose boxes by OctreeCamera::getVisibility, nodes of "
+             "partly visible octants by Camera::isVisible",
+             "PlugIns/OctreeSceneManager/src/OgreOctreeSceneManager.cpp: OctreeSceneManager::_findVisibleObjects, "
+             "walkOctree, _updateOctreeNode; OgreOctreeCamera.cpp: OctreeCamera::getVisibility")};
+  if (!octree_plugin) systems.pop_back();
+  return cp::run(methods, systems);
 }

@@ -1,4 +1,6 @@
-// OpenSceneGraph's frustum test under cullproof's process protocol: method `osg-polytope`.
+// OpenSceneGraph's frustum test under cullproof's process protocol: method `osg-polytope`; and
+// its scene-graph cull as culling systems `osg-cullvisitor` and `osg-cullvisitor-default`
+// (at the end of this file).
 //
 // Calls (all public, inline in <osg/Polytope> and <osg/Plane> of Debian's 3.6.5):
 //   osg::Polytope(PlaneList), Polytope::contains(BoundingBox | BoundingSphere | Vec3),
@@ -32,10 +34,20 @@
 
 #include <osg/BoundingBox>
 #include <osg/BoundingSphere>
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/MatrixTransform>
 #include <osg/Plane>
 #include <osg/Polytope>
+#include <osgUtil/RenderBin>
+#include <osgUtil/RenderLeaf>
+#include <osgUtil/SceneView>
+#include <osgUtil/StateGraph>
 
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
 
 namespace cp = cullproof_adapter;
 
@@ -93,6 +105,155 @@ void classify(State& s, const cp::Frame& f, std::vector<cp::Verdict>& out) {
   }
 }
 
+
+// ---- The scene graph's cull as a culling system ---------------------------------------------
+//
+// A scene graph as an OSG application builds one: a root osg::Group, per object an
+// osg::MatrixTransform (its transform) over an osg::Geode holding one osg::Geometry whose vertices
+// are the local volume's (a box's or an OBB's 8 corners, a sphere's 6 extreme points c +- r along
+// the axes, a point itself). Every bound is the engine's own: the Geometry's bounding box from its
+// vertices, the Geode's bounding sphere around it, the transform's sphere moved by its matrix, the
+// root's around its children. An object that moves gets setMatrix (and, if its local volume
+// changed, new vertices and dirtyBound).
+//
+// A frame is culled as osgViewer's Renderer culls: osgUtil::SceneView::cull() with the camera's
+// projection and view matrices, which runs osgUtil::CullVisitor over the graph (a node's bounding
+// sphere against the CullingSet's polytope, the planes a node is wholly inside masked off for its
+// children, the polytope carried into each transform's local space; a drawable's bounding box
+// against the masked planes) and fills the RenderStage. The visible set is the objects whose
+// Geometry the RenderStage holds a RenderLeaf for.
+//
+// OSG's cull is OpenGL's: its frustum is the unit cube [-1, 1]^3 of clip space carried back by the
+// projection matrix. A projection of another depth convention is given to it as the OpenGL
+// projection of the same frustum, its z row replaced in double (zero-to-one: 2 r3 - r4; reversed
+// zero-to-one: r4 - 2 r3; reversed [-1, 1]: -r3): exact unless the rows' exponents differ by more
+// than 51. osg::Matrix is double (Debian's osg/Config leaves OSG_USE_FLOAT_MATRIX off).
+//
+// Two settings of the engine:
+//   - `osg-cullvisitor`: VIEW_FRUSTUM_CULLING (all six planes) and DO_NOT_COMPUTE_NEAR_FAR, as an
+//     application with a fixed near and far plane sets them;
+//   - `osg-cullvisitor-default`: OSG's default culling mode (CullSettings::DEFAULT_CULLING: the
+//     four side planes, shadow-occlusion and cluster culling) with SMALL_FEATURE_CULLING taken out
+//     (it culls what covers less than a pixel size on the viewport, visible or not: a choice, not a
+//     test), and near and far computed from the bounds (COMPUTE_NEAR_FAR_USING_BOUNDING_VOLUMES):
+//     near and far planes cull nothing; a drawable whose box lies wholly behind the eye is dropped.
+struct SceneGraph {
+  bool defaults = false;
+  osg::ref_ptr<osgUtil::SceneView> view;
+  osg::ref_ptr<osg::Group> root;
+  std::unordered_map<std::uint32_t, osg::ref_ptr<osg::MatrixTransform>> transforms;
+  std::unordered_map<const osg::Drawable*, std::uint32_t> ids;
+
+  static osg::Matrixd matrix(const std::array<float, 16>& m) { return osg::Matrixd(m.data()); }
+
+  static osg::Vec3Array* vertices(const cp::Volume& v) {
+    auto* out = new osg::Vec3Array;
+    const auto vec = [](const cp::Vec3& x) { return osg::Vec3(x[0], x[1], x[2]); };
+    switch (v.kind) {
+      case cp::Volume::Kind::point: out->push_back(vec(v.p)); break;
+      case cp::Volume::Kind::aabb: {
+        const osg::BoundingBox b(vec(v.p), vec(v.q));
+        for (unsigned i = 0; i < 8; ++i) out->push_back(b.corner(i));
+        break;
+      }
+      case cp::Volume::Kind::sphere:
+        for (int axis = 0; axis < 3; ++axis)
+          for (float sign : {-1.0f, 1.0f}) {
+            osg::Vec3 x = vec(v.p);
+            x[axis] += sign * v.radius;
+            out->push_back(x);
+          }
+        break;
+      case cp::Volume::Kind::obb:
+        for (unsigned i = 0; i < 8; ++i) {
+          osg::Vec3 x = vec(v.p);
+          for (std::size_t k = 0; k < 3; ++k) x += vec(v.axes[k]) * ((i >> k & 1u) ? v.q[k] : -v.q[k]);
+          out->push_back(x);
+        }
+        break;
+    }
+    return out;
+  }
+
+  static void shape(osg::Geometry& g, const cp::Volume& local) {
+    osg::Vec3Array* v = vertices(local);
+    g.setVertexArray(v);
+    g.removePrimitiveSet(0, g.getNumPrimitiveSets());
+    g.addPrimitiveSet(new osg::DrawArrays(GL_POINTS, 0, GLsizei(v->size())));
+    g.dirtyBound();
+  }
+
+  void build(const std::vector<cp::Object>& objects) {
+    transforms.clear();
+    ids.clear();
+    root = new osg::Group;
+    for (const cp::Object& o : objects) {
+      osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+      shape(*g, o.local);
+      osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+      geode->addDrawable(g);
+      osg::ref_ptr<osg::MatrixTransform> t = new osg::MatrixTransform(matrix(o.transform));
+      t->addChild(geode);
+      root->addChild(t);
+      transforms[o.id] = t;
+      ids[g.get()] = o.id;
+    }
+    view = new osgUtil::SceneView;
+    view->setDefaults(osgUtil::SceneView::NO_SCENEVIEW_LIGHT);
+    view->setViewport(0, 0, 1024, 1024);
+    const auto mode = defaults ? osg::CullSettings::DEFAULT_CULLING & ~osg::CullSettings::SMALL_FEATURE_CULLING
+                               : osg::CullSettings::VIEW_FRUSTUM_CULLING;
+    const auto near_far = defaults ? osg::CullSettings::COMPUTE_NEAR_FAR_USING_BOUNDING_VOLUMES
+                                   : osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR;
+    for (osg::CullSettings* s : {static_cast<osg::CullSettings*>(view.get()), static_cast<osg::CullSettings*>(view->getCamera())}) {
+      s->setCullingMode(osg::CullSettings::CullingMode(mode));
+      s->setComputeNearFarMode(near_far);
+    }
+    view->setSceneData(root);
+  }
+
+  void update(const std::vector<cp::Object>& moved) {
+    for (const cp::Object& o : moved) {
+      const auto it = transforms.find(o.id);
+      if (it == transforms.end()) throw std::runtime_error("moved object " + std::to_string(o.id) + " is not in the scene");
+      it->second->setMatrix(matrix(o.transform));
+      auto* g = static_cast<osg::Geode*>(it->second->getChild(0))->getDrawable(0)->asGeometry();
+      shape(*g, o.local);
+    }
+  }
+
+  void prepare(const cp::View& v) {
+    if (!v.has_matrix) throw std::runtime_error("a view without its clip matrix: OSG culls with the projection");
+    osg::Matrixd p = matrix(v.projection);
+    // p(c, r) is row r, column c of the clip matrix (OpenGL's column-major order).
+    for (int c = 0; c < 4; ++c) {
+      const double r3 = p(c, 2), r4 = p(c, 3);
+      if (v.depth == "zero_to_one") p(c, 2) = v.reversed_z ? r4 - 2 * r3 : 2 * r3 - r4;
+      else if (v.reversed_z) p(c, 2) = -r3;
+    }
+    view->setProjectionMatrix(p);
+    view->setViewMatrix(matrix(v.view));
+  }
+
+  static void collect(const osgUtil::RenderBin& bin, const std::unordered_map<const osg::Drawable*, std::uint32_t>& ids,
+                      std::vector<std::uint32_t>& out) {
+    const auto add = [&](const osgUtil::RenderLeaf* leaf) {
+      const auto it = ids.find(leaf->getDrawable());
+      if (it == ids.end()) throw std::runtime_error("a RenderLeaf for a drawable of no object");
+      out.push_back(it->second);
+    };
+    for (const osgUtil::StateGraph* sg : bin.getStateGraphList())
+      for (const auto& leaf : sg->_leaves) add(leaf.get());
+    for (const osgUtil::RenderLeaf* leaf : bin.getRenderLeafList()) add(leaf);
+    for (const auto& child : bin.getRenderBinList()) collect(*child.second, ids, out);
+  }
+
+  void cull(cp::VisibleSet& out) {
+    view->cull();
+    collect(*view->getRenderStage(), ids, out.ids);
+  }
+};
+
 }  // namespace
 
 int main() {
@@ -115,5 +276,28 @@ int main() {
           "inside, and a point on a plane, is intersecting"),
       [&s](const cp::Frame& f) { prepare(s, f); },
       [&s](const cp::Frame& f, std::vector<cp::Verdict>& out) { classify(s, f, out); }};
-  return cp::run({m});
+  SceneGraph strict, defaults;
+  defaults.defaults = true;
+  auto system = [](SceneGraph& g, const std::string& name, const std::string& settings, const std::string& touching) {
+    return cp::System{
+        cp::describe_system(name, "conservative", 1e-6, {"aabb", "sphere", "obb", "point"}, false,
+                            "osg::MatrixTransform and osg::Geode per object over a Geometry of the local volume's vertices, "
+                            "culled by osgUtil::SceneView::cull (osgUtil::CullVisitor, CullingSet masks); " + settings,
+                            "OpenSceneGraph 3.6.5 (Debian 3.6.5+dfsg1-8+b2), osgUtil/SceneView: SceneView::cull; "
+                            "osgUtil/CullVisitor: CullVisitor::apply(Transform | Geode | Drawable); osg/CullingSet: "
+                            "CullingSet::isCulled; osg/Polytope: Polytope::contains (masks)",
+                            touching),
+        [&g](const std::vector<cp::Object>& o) { g.build(o); },
+        [&g](const std::vector<cp::Object>& o) { g.update(o); },
+        [&g](const cp::View& v) { g.prepare(v); },
+        [&g](const cp::View&, cp::VisibleSet& out) { g.cull(out); }};
+  };
+  const std::string touching = "kept: a node is culled when its bounding sphere's distance is < -radius, a drawable when "
+                               "its box's p-corner is < 0 on a plane";
+  const std::vector<cp::System> systems{
+      system(strict, "osg-cullvisitor", "VIEW_FRUSTUM_CULLING (six planes), near and far not computed", touching),
+      system(defaults, "osg-cullvisitor-default",
+             "OSG's DEFAULT_CULLING without SMALL_FEATURE_CULLING (side planes only), near and far computed from the bounds",
+             touching + "; near and far planes cull nothing")};
+  return cp::run({m}, systems);
 }
