@@ -31,11 +31,16 @@ struct ExternalProgram {
   int timeout_ms = 10000;            ///< --external-timeout
   int handshake_timeout_ms = 30000;  ///< --external-handshake-timeout
   int jobs = 1;                      ///< --external-jobs (verify)
-  /// Adds --external, --external-timeout and --external-jobs to cmd.
+  std::vector<std::string> shaders;  ///< --shader FILE (repeatable): a shader's description (docs/gpu.md)
+  std::string device;                ///< --device: the Vulkan device the shaders run on
+  /// Adds --external, --external-timeout, --external-jobs, --shader and --device to cmd.
   void add_options(CLI::App* cmd);
-  /// The program's methods named by --external beside the built-in ones named in `builtin`, or
-  /// the built-in ones alone; std::invalid_argument when a name or the program is missing.
+  /// The program's methods named by --external and the shaders of --shader beside the built-in
+  /// ones named in `builtin`, or the built-in ones alone; std::invalid_argument when a name or the
+  /// program is missing, std::runtime_error for a shader that cannot be read or compiled.
   std::vector<Method> methods(const std::vector<std::string>& builtin, int instances = 1) const;
+  /// Whether a program or a shader is under test (not the built-in methods alone).
+  bool any() const { return !names.empty() || !shaders.empty(); }
   /// The program's culling systems named by --external beside the built-in ones named in
   /// `builtin`, or the built-in ones alone (all of them when none is named).
   std::vector<System> systems(const std::vector<std::string>& builtin) const;
@@ -48,6 +53,15 @@ struct MethodsCommand {
 };
 void add_methods(CLI::App& app, MethodsCommand& c);
 int run_methods_command(const MethodsCommand& c);
+
+#ifdef CULLPROOF_HAVE_GPU
+/// `devices`: the Vulkan devices and their float controls.
+struct DevicesCommand {
+  CLI::App* cmd = nullptr;
+};
+void add_devices(CLI::App& app, DevicesCommand& c);
+int run_devices_command(const DevicesCommand& c);
+#endif
 
 /// `classify FILE... [--method NAME ...] [--no-oracle]`.
 struct ClassifyCommand {

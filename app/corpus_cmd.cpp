@@ -82,7 +82,7 @@ int cmd_corpus(const std::string& action, const std::string& dir, const std::str
     entries.erase(std::remove_if(entries.begin(), entries.end(),
                                  [&](const CorpusEntry& e) {
                                    return std::none_of(methods.begin(), methods.end(), [&](const Method& m) {
-                                     return !m.program.empty() && m.name == e.method;
+                                     return (!m.program.empty() || !m.reproduce.empty()) && m.name == e.method;
                                    });
                                  }),
                   entries.end());
@@ -223,15 +223,16 @@ int run_corpus_command(const CorpusCommand& c, const ExternalProgram& external) 
     return report::write_case_files(c.dir, c.id, c.html, c.svg, c.zoom_svg);
   }
 #endif
-  if (!external.names.empty() && c.action != "replay" && c.action != "rejudge") {
-    std::cerr << "cullproof corpus: --external is for replay and rejudge\n";
+  if (external.any() && c.action != "replay" && c.action != "rejudge") {
+    std::cerr << "cullproof corpus: --external and --shader are for replay and rejudge\n";
     return 2;
   }
-  // A program's methods beside every built-in one (a case's other recorded verdicts replay too).
+  // A program's methods and shaders beside every built-in one (a case's other recorded verdicts
+  // replay too).
   std::vector<Method> methods = external.methods({});
-  if (!external.names.empty())
+  if (external.any())
     for (const Method& b : builtin_methods()) methods.push_back(b);
-  return cmd_corpus(c.action, c.dir, c.id, methods, !external.names.empty(), c.strict);
+  return cmd_corpus(c.action, c.dir, c.id, methods, external.any(), c.strict);
 }
 
 }  // namespace cullproof::app

@@ -3,10 +3,18 @@
 #include "commands.hpp"
 
 #include "cullproof/protocol/external.hpp"
+#include "cullproof/protocol/protocol.hpp"
+#ifdef CULLPROOF_HAVE_GPU
+#include "cullproof/gpu/gpu.hpp"
+#endif
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
 namespace cullproof::app {
@@ -34,6 +42,12 @@ void ExternalProgram::add_options(CLI::App* cmd) {
                   "methods always through the first)")
       ->capture_default_str()
       ->check(CLI::Range(1, 256));
+  cmd->add_option("--shader", shaders,
+                  "Run the culling shader FILE describes (a method's description with \"shader\": its GLSL file; "
+                  "docs/gpu.md) on a Vulkan device (repeatable)");
+  cmd->add_option("--device", device,
+                  "The Vulkan device of --shader: an index or a part of its name (default: the first GPU, else the "
+                  "first device; 'cullproof devices' lists them)");
 }
 
 namespace {
@@ -79,10 +93,66 @@ std::optional<ExternalOptions> options_of(const ExternalProgram& p, int instance
 
 }  // namespace
 
+namespace {
+
+std::string read_text(const std::filesystem::path& file, const std::string& what) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::invalid_argument("cannot read " + what + " " + file.string());
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in.good() && !in.eof()) throw std::invalid_argument("cannot read " + what + " " + file.string());
+  return text.str();
+}
+
+// The shaders of --shader on the device of --device, each described by a JSON file whose "shader"
+// names its GLSL file (relative to the description's folder). Every description is read before
+// the device is opened; a description or shader that cannot be read, or is not valid, throws
+// std::invalid_argument naming its file.
+std::vector<Method> shader_methods(const std::vector<std::string>& files, const std::string& device) {
+  if (files.empty()) return {};
+#ifdef CULLPROOF_HAVE_GPU
+  std::vector<std::pair<MethodInfo, gpu::Shader>> shaders;
+  for (const std::string& file : files) {
+    const std::string where = "shader description " + file;
+    protocol::MethodDescription m;
+    try {
+      m = protocol::parse_method_description(read_text(file, "the shader description"), where, {"shader"});
+    } catch (const std::runtime_error& e) {
+      throw std::invalid_argument(e.what());
+    }
+    std::string glsl_file;
+    for (const auto& [key, value] : m.strings)
+      if (key == "shader") glsl_file = value;
+    if (glsl_file.empty()) throw std::invalid_argument(where + ": no \"shader\" (its GLSL file)");
+    const std::filesystem::path glsl_path = std::filesystem::path(file).parent_path() / glsl_file;
+    shaders.push_back({m.info, {read_text(glsl_path, "the shader"), glsl_path.string()}});
+  }
+  const std::shared_ptr<gpu::Device> d = gpu::open_device(device);
+  std::printf("%s", gpu::describe(gpu::info(*d)).c_str());
+  std::vector<Method> out;
+  for (std::size_t i = 0; i < shaders.size(); ++i) {
+    Method method = gpu::make_shader_method(shaders[i].first, shaders[i].second, d);
+    method.reproduce = "--shader " + files[i] + (device.empty() ? std::string() : " --device '" + device + "'");
+    out.push_back(std::move(method));
+  }
+  return out;
+#else
+  (void)device;
+  throw std::invalid_argument("--shader " + files[0] + ": this cullproof is built without the GPU library (Vulkan, glslang)");
+#endif
+}
+
+}  // namespace
+
 std::vector<Method> ExternalProgram::methods(const std::vector<std::string>& builtin, int instances) const {
   const auto eo = options_of(*this, instances);
-  if (!eo) return builtin_methods(builtin);
-  return chosen(external_methods(*eo), names, builtin.empty() ? std::vector<Method>{} : builtin_methods(builtin), "method");
+  std::vector<Method> out;
+  if (eo) out = chosen(external_methods(*eo), names, {}, "method");
+  for (Method& m : shader_methods(shaders, device)) out.push_back(std::move(m));
+  if (out.empty()) return builtin_methods(builtin);
+  if (!builtin.empty())
+    for (Method& b : builtin_methods(builtin)) out.push_back(std::move(b));
+  return out;
 }
 
 std::vector<System> ExternalProgram::systems(const std::vector<std::string>& builtin) const {

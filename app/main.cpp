@@ -59,6 +59,11 @@ static int run(int argc, char** argv) {
   add_systems(app, systems, external);
   commands.emplace_back(&systems.cmd, [&] { return run_systems_command(systems, external); });
 #endif
+#ifdef CULLPROOF_HAVE_GPU
+  DevicesCommand devices;
+  add_devices(app, devices);
+  commands.emplace_back(&devices.cmd, [&] { return run_devices_command(devices); });
+#endif
 #ifdef CULLPROOF_HAVE_SIM
   SimulateCommand simulate;
   add_simulate(app, simulate);

@@ -17,6 +17,8 @@ using gen::GenCase;
 std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const Method& m) {
   // A user's method is not in the command-line program: its test reruns the case from the
   // environment (cullproof/gtest/gtest.hpp).
+  if (!m.reproduce.empty())
+    return fmt::format("cullproof verify --seed {} --distribution {} --index {} {}", seed, gen::to_string(d), index, m.reproduce);
   if (!m.program.empty())
     return fmt::format("cullproof verify --seed {} --distribution {} --index {} --external {} -- {}", seed, gen::to_string(d),
                        index, m.name, m.program);

@@ -214,6 +214,32 @@ std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::str
   return out;
 }
 
+MethodDescription parse_method_description(std::string_view text, const std::string& where,
+                                           const std::vector<std::string>& extra) {
+  json m;
+  try {
+    m = parse_json_limited(text, kMaxProtocolDepth, "a method's description");
+  } catch (const InputLimitError& limit) {
+    throw std::runtime_error(where + ": " + limit.what());
+  } catch (const json::exception&) {
+    throw std::runtime_error(where + ": not JSON: " + excerpt(text));
+  }
+  if (!m.is_object()) throw std::runtime_error(where + ": not a JSON object: " + excerpt(text));
+  MethodDescription out;
+  std::set<std::string> names;
+  out.info.name = name_of(m, names, where);
+  read_description(m, out.info, where, where, /*per_kind=*/true);
+  std::vector<const char*> known{"name", "description", "source", "claim", "tolerance", "volumes", "three_way", "touching", "origin"};
+  for (const std::string& x : extra) known.push_back(x.c_str());
+  known_fields(m, known, "a method's fields", where);
+  for (const std::string& x : extra)
+    if (const auto v = m.find(x); v != m.end()) {
+      if (!v->is_string()) throw std::runtime_error(where + ": \"" + x + "\" " + excerpt(v->dump()) + " is not a string");
+      out.strings.emplace_back(x, v->get<std::string>());
+    }
+  return out;
+}
+
 unsigned depth_convention_bit(const DepthConvention& d) noexcept {
   return (d.range == DepthRange::negative_one_to_one ? 1u : 2u) << (d.reversed_z ? 2 : 0);
 }

@@ -112,8 +112,13 @@ struct MethodInfo {
   /// A user's method unless it says otherwise: its refuted claim fails the run.
   Origin origin = Origin::user;
   /// For a method behind a program (cullproof/protocol/external.hpp): the program's command line, which
-  /// the reproduce lines of its cases name.
+  /// the reproduce lines of its cases name. Such a method is timed alone, one after another.
   std::string program;
+  /// The options that bring this method into `cullproof verify`, where they are not `--method NAME`
+  /// (a built-in's) or `--external NAME -- PROGRAM`: a shader's `--shader FILE`. The reproduce lines
+  /// of its cases name them. Empty for a method defined in a user's code (its test's environment
+  /// reruns a case).
+  std::string reproduce;
 
   bool takes(const Volume& v) const noexcept { return (volumes & volume_kind(v)) != 0; }
   bool takes(unsigned kind_bit) const noexcept { return (volumes & kind_bit) != 0; }

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace cullproof::protocol {
@@ -40,6 +41,18 @@ unsigned depth_convention_bit(const DepthConvention& d) noexcept;
 /// JSON or nests past kMaxProtocolDepth, another protocol version, no methods, a method without a
 /// name or named twice, a field of the wrong type or outside its list of values.
 std::vector<OfferedMethod> parse_handshake(std::string_view line, const std::string& program);
+
+/// A culler described in a file of its own (a shader's description, docs/gpu.md): one JSON object
+/// with a method's fields as a handshake entry has them (name, description, source, claim,
+/// tolerance, volumes, three_way, touching, origin; not stateful, frustum, depth) and the string
+/// fields `extra` names; `strings` holds those present. Throws std::runtime_error
+/// "<where>: ..." naming what is wrong, as parse_handshake does (an unknown field included).
+struct MethodDescription {
+  MethodInfo info;
+  std::vector<std::pair<std::string, std::string>> strings;
+};
+MethodDescription parse_method_description(std::string_view text, const std::string& where,
+                                           const std::vector<std::string>& extra);
 
 /// The culling systems a version-2 handshake offers ("systems": name, description, source,
 /// claim, tolerance, volumes, three_way, touching, origin; no other field); none for version 1.
