@@ -3,9 +3,12 @@
 #include "campaign_internal.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <type_traits>
+#include <utility>
 #include <variant>
 
 namespace cullproof::detail {
@@ -46,24 +49,39 @@ unsigned classify_frame(PreparedFrustum& p, const KindedFrame& f, std::vector<An
 constexpr int kPasses = 3;
 constexpr double kPassSeconds = 0.0006;
 
-// Runs `pass` (one pass over the frames, returning how many units it timed) until it has run for
-// kPassSeconds, kPasses times; the least time per unit of the passes, or NaN when a pass timed
-// none.
-template <typename Pass>
-double fastest_pass(Pass&& pass) {
-  double best = std::numeric_limits<double>::infinity();
+// Runs `pass` (one pass over the frames, returning for each of N figures how many units it timed
+// and in how many seconds) until its figures have run for N * kPassSeconds together, kPasses
+// times; per figure, the least time per unit of the passes, or NaN for every figure when a pass
+// timed no unit of the first.
+template <std::size_t N, typename Pass>
+std::array<double, N> fastest_passes(Pass&& pass) {
+  std::array<double, N> best;
+  best.fill(std::numeric_limits<double>::infinity());
   for (int k = 0; k < kPasses; ++k) {
-    std::uint64_t units = 0;
-    double secs = 0.0;
+    std::array<std::uint64_t, N> units{};
+    std::array<double, N> secs{};
+    double total = 0.0;
     do {
-      const auto [n, s] = pass();
-      if (n == 0) return std::numeric_limits<double>::quiet_NaN();
-      units += n;
-      secs += s;
-    } while (secs < kPassSeconds);
-    best = std::min(best, secs * 1e9 / double(units));
+      const std::array<std::pair<std::uint64_t, double>, N> r = pass();
+      if (r[0].first == 0) {
+        best.fill(std::numeric_limits<double>::quiet_NaN());
+        return best;
+      }
+      for (std::size_t i = 0; i < N; ++i) {
+        units[i] += r[i].first;
+        secs[i] += r[i].second;
+        total += r[i].second;
+      }
+    } while (total < double(N) * kPassSeconds);
+    for (std::size_t i = 0; i < N; ++i) best[i] = std::min(best[i], secs[i] * 1e9 / double(units[i]));
   }
   return best;
+}
+
+// One figure: `pass` returns the units it timed and their seconds.
+template <typename Pass>
+double fastest_pass(Pass&& pass) {
+  return fastest_passes<1>([&] { return std::array<std::pair<std::uint64_t, double>, 1>{pass()}; })[0];
 }
 
 // A stateful method runs as it would in an engine: frame after frame, each prepared and then
@@ -77,36 +95,30 @@ Timing time_stateful(const Method& m, const std::vector<KindedFrame>& frames) {
   if (largest == 0) return t;
   std::vector<Answer> answers(largest);
   unsigned sink = 0;
-  // One pass over the frames, both phases timed; the set-up figure is kept per pass beside the
-  // classify one, each the fastest of its passes.
-  double best_setup = std::numeric_limits<double>::infinity(), best_test = best_setup;
-  for (int k = 0; k < kPasses; ++k) {
-    std::uint64_t tests = 0, prepared = 0;
-    double prep_secs = 0.0, cls_secs = 0.0;
-    do {
-      m.reset();
-      for (const KindedFrame& f : frames) {
-        if (!f.continues) m.reset();
-        if (f.size() == 0) continue;
-        const auto t0 = Clock::now();
-        const auto p = m.prepare(f.frustum);
-        const auto t1 = Clock::now();
-        prep_secs += std::chrono::duration<double>(t1 - t0).count();
-        if (!p) continue;
-        ++prepared;
-        sink += classify_frame(*p, f, answers);
-        cls_secs += std::chrono::duration<double>(Clock::now() - t1).count();
-        tests += f.size();
-      }
-    } while (prepared > 0 && prep_secs + cls_secs < 2 * kPassSeconds);
-    if (prepared == 0) return t;
-    best_setup = std::min(best_setup, prep_secs * 1e9 / double(prepared));
-    best_test = std::min(best_test, cls_secs * 1e9 / double(tests));
-  }
+  // Figures: the set-up per frame prepared, the classification per volume.
+  const std::array<double, 2> best = fastest_passes<2>([&] {
+    std::array<std::pair<std::uint64_t, double>, 2> r{};
+    m.reset();
+    for (const KindedFrame& f : frames) {
+      if (!f.continues) m.reset();
+      if (f.size() == 0) continue;
+      const auto t0 = Clock::now();
+      const auto p = m.prepare(f.frustum);
+      const auto t1 = Clock::now();
+      r[0].second += std::chrono::duration<double>(t1 - t0).count();
+      if (!p) continue;
+      ++r[0].first;
+      sink += classify_frame(*p, f, answers);
+      r[1].second += std::chrono::duration<double>(Clock::now() - t1).count();
+      r[1].first += f.size();
+    }
+    return r;
+  });
   static std::atomic<unsigned> keep{0};
   keep += sink;
-  t.ns_setup_per_frame = best_setup;
-  t.ns_per_test = best_test;
+  if (std::isnan(best[0])) return t;
+  t.ns_setup_per_frame = best[0];
+  t.ns_per_test = best[1];
   return t;
 }
 
