@@ -48,7 +48,7 @@ MethodInfo described(const std::string& name, unsigned volumes) {
 }
 
 Method example() {
-  return gpu::make_shader_method(described("glsl-plane-tests", kPointKind | kSphereKind | kAabbKind),
+  return gpu::make_shader_method(described("glsl-plane-tests", kPointKind | kSphereKind | kAabbKind | kObbKind),
                                  {read("examples/shaders/plane-tests.glsl"), "plane-tests.glsl"}, device());
 }
 
