@@ -33,7 +33,11 @@ struct ExternalProgram {
   int jobs = 1;                      ///< --external-jobs (verify)
   std::vector<std::string> shaders;  ///< --shader FILE (repeatable): a shader's description (docs/gpu.md)
   std::string device;                ///< --device: the Vulkan device the shaders run on
-  /// Adds --external, --external-timeout, --external-jobs, --shader and --device to cmd.
+  std::vector<std::string> arithmetic;  ///< --arithmetic (comma-separated, repeatable): the shaders' arithmetic variants
+  /// The devices the shaders of the last methods() run on, as `devices --json` gives them (an
+  /// array; empty without shaders): for the run's JSON.
+  mutable nlohmann::json devices = nlohmann::json::array();
+  /// Adds --external, --external-timeout, --external-jobs, --shader, --device and --arithmetic to cmd.
   void add_options(CLI::App* cmd);
   /// The program's methods named by --external and the shaders of --shader beside the built-in
   /// ones named in `builtin`, or the built-in ones alone; std::invalid_argument when a name or the
@@ -58,8 +62,16 @@ int run_methods_command(const MethodsCommand& c);
 /// `devices`: the Vulkan devices and their float controls.
 struct DevicesCommand {
   CLI::App* cmd = nullptr;
+  bool json = false;
 };
 void add_devices(CLI::App& app, DevicesCommand& c);
+}  // namespace cullproof::app
+namespace cullproof::gpu {
+struct DeviceInfo;
+}
+namespace cullproof::app {
+/// A device as JSON: what it is, its float controls per width, its measured arithmetic.
+nlohmann::json device_json(const gpu::DeviceInfo& d);
 int run_devices_command(const DevicesCommand& c);
 #endif
 

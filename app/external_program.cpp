@@ -48,6 +48,11 @@ void ExternalProgram::add_options(CLI::App* cmd) {
   cmd->add_option("--device", device,
                   "The Vulkan device of --shader: an index or a part of its name (default: the first GPU, else the "
                   "first device; 'cullproof devices' lists them)");
+  cmd->add_option("--arithmetic", arithmetic,
+                  "Run each --shader under these arithmetic variants, emulated on the device (comma-separated: device, "
+                  "or contract, flush, bounds-low, bounds-high, half joined by '+'; 'all': device, each alone, and "
+                  "contract+flush+bounds-low; docs/gpu.md); default: device")
+      ->delimiter(',');
 }
 
 namespace {
@@ -108,36 +113,55 @@ std::string read_text(const std::filesystem::path& file, const std::string& what
 // names its GLSL file (relative to the description's folder). Every description is read before
 // the device is opened; a description or shader that cannot be read, or is not valid, throws
 // std::invalid_argument naming its file.
-std::vector<Method> shader_methods(const std::vector<std::string>& files, const std::string& device) {
-  if (files.empty()) return {};
+std::vector<Method> shader_methods(const std::vector<std::string>& files, const std::string& device,
+                                   const std::vector<std::string>& arithmetic, nlohmann::json& devices) {
+  if (files.empty()) {
+    if (!arithmetic.empty()) throw std::invalid_argument("--arithmetic applies to the shaders of --shader, and none is named");
+    return {};
+  }
 #ifdef CULLPROOF_HAVE_GPU
+  std::vector<gpu::Arithmetic> variants;
+  for (const std::string& a : arithmetic)
+    for (const gpu::Arithmetic& v : a == "all" ? gpu::all_arithmetic() : std::vector<gpu::Arithmetic>{gpu::parse_arithmetic(a)})
+      if (std::find(variants.begin(), variants.end(), v) == variants.end()) variants.push_back(v);
+  if (variants.empty()) variants.emplace_back();
   std::vector<std::pair<MethodInfo, gpu::Shader>> shaders;
   for (const std::string& file : files) {
     const std::string where = "shader description " + file;
     protocol::MethodDescription m;
     try {
-      m = protocol::parse_method_description(read_text(file, "the shader description"), where, {"shader"});
+      m = protocol::parse_method_description(read_text(file, "the shader description"), where, {"shader", "spheres"});
     } catch (const std::runtime_error& e) {
       throw std::invalid_argument(e.what());
     }
-    std::string glsl_file;
-    for (const auto& [key, value] : m.strings)
+    std::string glsl_file, spheres = "planes";
+    for (const auto& [key, value] : m.strings) {
       if (key == "shader") glsl_file = value;
+      if (key == "spheres") spheres = value;
+    }
     if (glsl_file.empty()) throw std::invalid_argument(where + ": no \"shader\" (its GLSL file)");
+    if (spheres != "planes" && spheres != "view-space")
+      throw std::invalid_argument(where + ": \"spheres\" is '" + spheres +
+                                  "': 'planes' (cull_sphere, the default) or 'view-space' (cull_sphere_view)");
     const std::filesystem::path glsl_path = std::filesystem::path(file).parent_path() / glsl_file;
-    shaders.push_back({m.info, {read_text(glsl_path, "the shader"), glsl_path.string()}});
+    shaders.push_back({m.info, {read_text(glsl_path, "the shader"), glsl_path.string(), spheres == "view-space"}});
   }
   const std::shared_ptr<gpu::Device> d = gpu::open_device(device);
   std::printf("%s", gpu::describe(gpu::info(*d)).c_str());
+  devices.push_back(device_json(gpu::info(*d)));
   std::vector<Method> out;
-  for (std::size_t i = 0; i < shaders.size(); ++i) {
-    Method method = gpu::make_shader_method(shaders[i].first, shaders[i].second, d);
-    method.reproduce = "--shader " + files[i] + (device.empty() ? std::string() : " --device '" + device + "'");
-    out.push_back(std::move(method));
-  }
+  for (std::size_t i = 0; i < shaders.size(); ++i)
+    for (const gpu::Arithmetic& v : variants) {
+      Method method = gpu::make_shader_method(shaders[i].first, shaders[i].second, d, v);
+      method.reproduce = "--shader " + files[i] + (device.empty() ? std::string() : " --device '" + device + "'") +
+                         (v.device_only() ? std::string() : " --arithmetic " + gpu::to_string(v));
+      out.push_back(std::move(method));
+    }
   return out;
 #else
   (void)device;
+  (void)arithmetic;
+  (void)devices;
   throw std::invalid_argument("--shader " + files[0] + ": this cullproof is built without the GPU library (Vulkan, glslang)");
 #endif
 }
@@ -148,7 +172,8 @@ std::vector<Method> ExternalProgram::methods(const std::vector<std::string>& bui
   const auto eo = options_of(*this, instances);
   std::vector<Method> out;
   if (eo) out = chosen(external_methods(*eo), names, {}, "method");
-  for (Method& m : shader_methods(shaders, device)) out.push_back(std::move(m));
+  devices = nlohmann::json::array();
+  for (Method& m : shader_methods(shaders, device, arithmetic, devices)) out.push_back(std::move(m));
   if (out.empty()) return builtin_methods(builtin);
   if (!builtin.empty())
     for (Method& b : builtin_methods(builtin)) out.push_back(std::move(b));

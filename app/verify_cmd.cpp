@@ -45,7 +45,8 @@ void catch_stop_signals() {
   ::sigaction(SIGTERM, &sa, nullptr);
 }
 
-int cmd_verify(VerifyOptions opt, const std::string& json_file, const std::vector<Method>& methods) {
+int cmd_verify(VerifyOptions opt, const std::string& json_file, const std::vector<Method>& methods,
+               const nlohmann::json& devices) {
   static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
   catch_stop_signals();
   opt.stop = &g_stop;
@@ -53,7 +54,8 @@ int cmd_verify(VerifyOptions opt, const std::string& json_file, const std::vecto
   opt.on_distribution = [&](const DistributionResult& d) { print_table(d, opt.seed, std::cout); };
   const VerifyResult r = run_verify(opt, methods);
   print_table_notes(r, std::cout);
-  const nlohmann::json json = to_json(r);
+  nlohmann::json json = to_json(r);
+  if (!devices.empty()) json["devices"] = devices;  // where the shaders ran, and how it computes
   if (!json_file.empty()) write_file_atomic(json_file, json.dump(2) + "\n");
   std::size_t written = 0;
   for (const auto& d : r.distributions)
@@ -144,7 +146,8 @@ int run_verify_command(VerifyCommand& c, const ExternalProgram& external) {
   VerifyOptions vopt = c.run.verify_options();
   vopt.corpus = c.no_corpus ? std::nullopt : std::optional<std::filesystem::path>(c.corpus_dir);
   if (*c.index_option) vopt.only_index = c.index;
-  return cmd_verify(vopt, c.json_file, external.methods(vopt.methods, external.jobs));
+  const std::vector<Method> methods = external.methods(vopt.methods, external.jobs);
+  return cmd_verify(vopt, c.json_file, methods, external.devices);
 }
 
 }  // namespace cullproof::app

@@ -7,6 +7,7 @@
 #include <glslang/Public/resource_limits_c.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -24,8 +25,9 @@ struct Kind {
   std::uint32_t words;  // the record's 32-bit words: the frame, then the volume's floats
 };
 
-// A record: [frame, floats...]; f(k) reads float k of the record.
-const std::array<Kind, 4> kKinds{{
+// A record: [frame, floats...]; f(k) reads float k of the record. The last kind is the view-space
+// form of spheres (Shader::view_space), whose frame is the view-space frustum's 24 floats.
+const std::array<Kind, 5> kKinds{{
     {kPointKind, "point", "cull_point(planes, vec3(f(1u), f(2u), f(3u)))", 4},
     {kSphereKind, "sphere", "cull_sphere(planes, vec3(f(1u), f(2u), f(3u)), f(4u))", 5},
     {kAabbKind, "aabb", "cull_aabb(planes, vec3(f(1u), f(2u), f(3u)), vec3(f(4u), f(5u), f(6u)))", 7},
@@ -33,38 +35,47 @@ const std::array<Kind, 4> kKinds{{
      "cull_obb(planes, vec3(f(1u), f(2u), f(3u)), mat3(f(4u), f(5u), f(6u), f(7u), f(8u), f(9u), f(10u), f(11u), f(12u)), "
      "vec3(f(13u), f(14u), f(15u)))",
      16},
+    {kSphereKind, "sphere_view",
+     "cull_sphere_view(mat4(planes[0], planes[1], planes[2], planes[3]), planes[4], planes[5], vec3(f(1u), f(2u), f(3u)), "
+     "f(4u))",
+     5},
 }};
+constexpr std::size_t kSphereView = 4;
 
-const Kind& kind_of(unsigned bit) {
+// The kind a shader's volumes of `bit` go to.
+const Kind& kind_of(unsigned bit, bool view_space) {
+  if (bit == kSphereKind && view_space) return kKinds[kSphereView];
   for (const Kind& k : kKinds)
     if (k.bit == bit) return k;
   throw std::logic_error("cullproof::gpu: no volume kind " + std::to_string(bit));
 }
 
 // The volume's floats after the frame word.
-void put(std::vector<std::uint32_t>& out, float x) {
+void put(std::vector<std::uint32_t>& out, float x, bool half) {
+  if (half) x = round_to_half(x);
   std::uint32_t w;
   static_assert(sizeof w == sizeof x, "32-bit floats");
   std::memcpy(&w, &x, sizeof w);
   out.push_back(w);
 }
-void put(std::vector<std::uint32_t>& out, const glm::vec3& v) {
-  for (int i = 0; i < 3; ++i) put(out, v[i]);
+void put(std::vector<std::uint32_t>& out, const glm::vec3& v, bool half) {
+  for (int i = 0; i < 3; ++i) put(out, v[i], half);
 }
-void put_volume(std::vector<std::uint32_t>& out, const Volume& v) {
-  if (const auto* p = std::get_if<Point>(&v)) return put(out, *p);
+// The volume's floats, each rounded to half precision when they are stored so.
+void put_volume(std::vector<std::uint32_t>& out, const Volume& v, bool half) {
+  if (const auto* p = std::get_if<Point>(&v)) return put(out, *p, half);
   if (const auto* s = std::get_if<Sphere>(&v)) {
-    put(out, s->center);
-    return put(out, s->radius);
+    put(out, s->center, half);
+    return put(out, s->radius, half);
   }
   if (const auto* b = std::get_if<Aabb>(&v)) {
-    put(out, b->min);
-    return put(out, b->max);
+    put(out, b->min, half);
+    return put(out, b->max, half);
   }
   const Obb& o = std::get<Obb>(v);
-  put(out, o.center);
-  for (int c = 0; c < 3; ++c) put(out, o.axes[c]);
-  put(out, o.half);
+  put(out, o.center, half);
+  for (int c = 0; c < 3; ++c) put(out, o.axes[c], half);
+  put(out, o.half, half);
 }
 
 // glslang's process-wide state, made once (glslang_initialize_process is not reentrant).
@@ -118,15 +129,21 @@ std::vector<std::uint32_t> compile_glsl(const std::string& source, const std::st
   return out;
 }
 
+std::string float_kernel_head(std::uint32_t local_size) {
+  return fmt::format(R"GLSL(#version 450
+layout(local_size_x = {}) in;
+layout(std430, set = 0, binding = 0) readonly buffer Unused {{ vec4 unused[]; }};
+layout(std430, set = 0, binding = 1) readonly buffer In {{ float x[]; }};
+layout(std430, set = 0, binding = 2) writeonly buffer Out {{ uint y[]; }};
+layout(push_constant) uniform Count {{ uint count; }};
+)GLSL",
+                     local_size);
+}
+
 MeasuredArithmetic probe_arithmetic(const std::shared_ptr<Device>& device) {
   // Inputs: 2^-140 (subnormal), 1, 2^-70, and a, b, c with a * b + c = -2^-46 exactly, whose
   // product rounds to 1 in float (so the sum is 0 unless it is fused).
-  const std::string source = R"GLSL(#version 450
-layout(local_size_x = 1) in;
-layout(std430, set = 0, binding = 0) readonly buffer Unused { vec4 unused[]; };
-layout(std430, set = 0, binding = 1) readonly buffer In { float x[]; };
-layout(std430, set = 0, binding = 2) writeonly buffer Out { uint y[]; };
-layout(push_constant) uniform Count { uint count; };
+  const std::string source = float_kernel_head(1) + R"GLSL(
 void main() {
   y[0] = floatBitsToUint(x[0] * x[1]);
   y[1] = floatBitsToUint(x[2] * x[2]);
@@ -139,7 +156,7 @@ void main() {
   Pipeline probe(device, compile_glsl(source, "cullproof arithmetic probe"));
   const float e = std::ldexp(1.0f, -23);
   std::vector<std::uint32_t> in;
-  for (float x : {std::ldexp(1.0f, -140), 1.0f, std::ldexp(1.0f, -70), 1.0f + e, 1.0f - e, -1.0f}) put(in, x);
+  for (float x : {std::ldexp(1.0f, -140), 1.0f, std::ldexp(1.0f, -70), 1.0f + e, 1.0f - e, -1.0f}) put(in, x, false);
   std::vector<std::uint32_t> out;
   std::lock_guard<std::mutex> lock(device->mutex());
   probe.dispatch({0.0f, 0.0f, 0.0f, 0.0f}, in, 5, out);  // one invocation (a group of one) writes the 5 words
@@ -161,9 +178,10 @@ namespace {
 
 // SPIR-V of the wrapped shader; std::invalid_argument with the compiler's messages, which name the
 // shader's file and line.
-std::vector<std::uint32_t> compile(const Shader& shader, const Kind& kind, const std::string& method) {
+std::vector<std::uint32_t> compile(const Shader& shader, const Kind& kind, const std::string& method,
+                                   const Arithmetic& arithmetic) {
   try {
-    return compile_glsl(wrapped_source(shader, kind.bit), shader.file);
+    return emulate_arithmetic(compile_glsl(wrapped_source(shader, kind.bit), shader.file), arithmetic);
   } catch (const std::invalid_argument& e) {
     const std::string call = kind.call;
     throw std::invalid_argument(fmt::format("shader method '{}': {} (wrapped for {} volumes, which calls {})", method,
@@ -174,18 +192,29 @@ std::vector<std::uint32_t> compile(const Shader& shader, const Kind& kind, const
 // The pipelines of one shader method and the device they run on; the device's own time tallied.
 class Runner {
  public:
-  Runner(const MethodInfo& info, const Shader& shader, std::shared_ptr<Device> device) : info_(info), device_(std::move(device)) {
-    for (std::size_t k = 0; k < kKinds.size(); ++k)
-      if (info.volumes & kKinds[k].bit) pipelines_[k] = std::make_unique<Pipeline>(device_, compile(shader, kKinds[k], info.name));
+  Runner(const MethodInfo& info, const Shader& shader, std::shared_ptr<Device> device, const Arithmetic& arithmetic)
+      : info_(info), device_(std::move(device)), half_(arithmetic.half_storage), view_space_(shader.view_space) {
+    for (std::size_t k = 0; k < kSphereView; ++k)
+      if (info.volumes & kKinds[k].bit)
+        pipelines_[k] = std::make_unique<Pipeline>(
+            device_, compile(shader, kind_of(kKinds[k].bit, shader.view_space), info.name, arithmetic));
   }
 
-  // Answers for every volume of the frames, frame after frame (Method::on_frames).
+  // Answers for every volume of the frames, frame after frame (Method::on_frames); a frame the
+  // view-space form does not describe leaves its spheres unanswered.
   void run(const FrameRequest* frames, std::size_t n, Answer* answers) {
-    std::vector<float> planes;
+    std::vector<float> planes, views;
+    std::vector<bool> described;
     planes.reserve(n * 24);
     std::size_t total = 0;
     for (std::size_t j = 0; j < n; ++j) {
       for (const Plane& p : frames[j].frustum->planes.planes) planes.insert(planes.end(), {p.n.x, p.n.y, p.n.z, p.d});
+      if (view_space_) {
+        const auto v = view_space_frustum(frames[j].frustum->planes);
+        described.push_back(v.has_value());
+        if (v) views.insert(views.end(), v->begin(), v->end());
+        else views.insert(views.end(), 24, 0.0f);
+      }
       total += frames[j].count;
     }
     if (n > 0xffffffffu / 6 || total > 0xffffffffu)
@@ -193,28 +222,30 @@ class Runner {
                                            info_.name, n, total));
     for (std::size_t i = 0; i < total; ++i) answers[i] = Answer{};
     std::lock_guard<std::mutex> lock(device_->mutex());
-    for (std::size_t k = 0; k < kKinds.size(); ++k) {
+    for (std::size_t k = 0; k < kSphereView; ++k) {
       if (!pipelines_[k]) continue;
+      const bool view = view_space_ && kKinds[k].bit == kSphereKind;
       records_.clear();
       where_.clear();
       std::size_t at = 0;
       for (std::size_t j = 0; j < n; ++j)
         for (std::size_t i = 0; i < frames[j].count; ++i, ++at) {
           const Volume& v = frames[j].volumes[i];
-          if (volume_kind(v) != kKinds[k].bit) continue;
+          if (volume_kind(v) != kKinds[k].bit || (view && !described[j])) continue;
           records_.push_back(std::uint32_t(j));
-          put_volume(records_, v);
+          put_volume(records_, v, half_);
           where_.push_back(at);
         }
       if (where_.empty()) continue;
-      const double ns = pipelines_[k]->dispatch(planes, records_, std::uint32_t(where_.size()), verdicts_);
+      const double ns = pipelines_[k]->dispatch(view ? views : planes, records_, std::uint32_t(where_.size()), verdicts_);
+      const char* name = kind_of(kKinds[k].bit, view).name;
       for (std::size_t i = 0; i < where_.size(); ++i) {
         const std::uint32_t x = verdicts_[i];
         if (x > 2)
           throw std::runtime_error(fmt::format(
               "shader method '{}': cull_{} answered {} for a volume (the {}th asked): not 0 (outside), 1 (intersecting) or "
               "2 (inside)",
-              info_.name, kKinds[k].name, x, where_[i] + 1));
+              info_.name, name, x, where_[i] + 1));
         answers[where_[i]] = static_cast<Visibility>(x);
       }
       own_ns_ += ns;
@@ -233,7 +264,8 @@ class Runner {
  private:
   MethodInfo info_;
   std::shared_ptr<Device> device_;
-  std::array<std::unique_ptr<Pipeline>, 4> pipelines_;
+  bool half_, view_space_;
+  std::array<std::unique_ptr<Pipeline>, 4> pipelines_;  // by kKinds' first four
   // Reused from dispatch to dispatch (under the device's mutex).
   std::vector<std::uint32_t> records_, verdicts_;
   std::vector<std::size_t> where_;
@@ -269,8 +301,67 @@ class Prepared : public PreparedFrustum {
 
 }  // namespace
 
+std::optional<std::array<float, 24>> view_space_frustum(const Frustum& frustum) {
+  // In double, from the float planes: unit normals, the view's axes from the side planes' normals,
+  // the eye where the side planes meet; every symmetry checked to within 2^-16.
+  constexpr double kTolerance = 1.0 / 65536;
+  glm::dvec3 n[6];
+  double d[6];
+  for (int i = 0; i < 6; ++i) {
+    n[i] = glm::dvec3(frustum[i].n);
+    d[i] = double(frustum[i].d);
+    const double length = glm::length(n[i]);
+    if (!std::isfinite(length) || !std::isfinite(d[i])) return std::nullopt;
+    if (length > 0.0) {
+      n[i] /= length;
+      d[i] /= length;
+    } else if (i != 5 || !(d[i] > 0.0)) {
+      return std::nullopt;  // only the far plane may be all space (an infinite projection)
+    }
+  }
+  const bool infinite = glm::length(n[5]) == 0.0;
+  const auto small = [&](double x) { return std::fabs(x) <= kTolerance; };
+  const glm::dvec3 f = n[4], r_sum = n[0] - n[1], u_sum = n[2] - n[3];
+  if (glm::length(r_sum) < kTolerance || glm::length(u_sum) < kTolerance) return std::nullopt;
+  const glm::dvec3 r = glm::normalize(r_sum), u = glm::normalize(u_sum);
+  if (!small(glm::dot(r, f)) || !small(glm::dot(u, f)) || !small(glm::dot(r, u))) return std::nullopt;
+  if (!infinite && glm::length(n[5] + f) > kTolerance) return std::nullopt;
+  // Left and right mirror each other across the view's y-z plane, bottom and top across x-z.
+  if (!small(glm::dot(n[0], r) + glm::dot(n[1], r)) || !small(glm::dot(n[0], f) - glm::dot(n[1], f)) ||
+      !small(glm::dot(n[0], u)) || !small(glm::dot(n[1], u)) || !small(glm::dot(n[2], u) + glm::dot(n[3], u)) ||
+      !small(glm::dot(n[2], f) - glm::dot(n[3], f)) || !small(glm::dot(n[2], r)) || !small(glm::dot(n[3], r)))
+    return std::nullopt;
+  const double lx = (glm::dot(n[0], r) - glm::dot(n[1], r)) / 2, lz = (glm::dot(n[0], f) + glm::dot(n[1], f)) / 2;
+  const double by = (glm::dot(n[2], u) - glm::dot(n[3], u)) / 2, bz = (glm::dot(n[2], f) + glm::dot(n[3], f)) / 2;
+  if (!(lx > 0.0 && lz > 0.0 && by > 0.0 && bz > 0.0)) return std::nullopt;  // a perspective frustum, under 180 degrees
+  // The eye: where left, right and bottom meet (Cramer's rule); the top passes through it.
+  const double det = glm::dot(n[0], glm::cross(n[1], n[2]));
+  if (!(std::fabs(det) > kTolerance)) return std::nullopt;
+  const glm::dvec3 eye = -(d[0] * glm::cross(n[1], n[2]) + d[1] * glm::cross(n[2], n[0]) + d[2] * glm::cross(n[0], n[1])) / det;
+  if (std::fabs(glm::dot(n[3], eye) + d[3]) > kTolerance * (1.0 + glm::length(eye))) return std::nullopt;
+  const double znear = -(glm::dot(f, eye) + d[4]);
+  const double zfar = infinite ? INFINITY : -(glm::dot(n[5], eye) + d[5]) / glm::dot(n[5], f);
+  if (!(znear > 0.0 && zfar > znear)) return std::nullopt;
+  std::array<float, 24> out{};
+  for (int j = 0; j < 3; ++j) {  // view's columns: world axis j in view coordinates
+    out[std::size_t(4 * j)] = float(r[j]);
+    out[std::size_t(4 * j + 1)] = float(u[j]);
+    out[std::size_t(4 * j + 2)] = float(f[j]);
+  }
+  out[12] = float(-glm::dot(r, eye));
+  out[13] = float(-glm::dot(u, eye));
+  out[14] = float(-glm::dot(f, eye));
+  out[15] = 1.0f;
+  const double frustum_out[4] = {lx, lz, by, bz}, depth[4] = {znear, zfar, lx / lz, by / bz};
+  for (int k = 0; k < 4; ++k) {
+    out[std::size_t(16 + k)] = float(frustum_out[k]);
+    out[std::size_t(20 + k)] = float(depth[k]);
+  }
+  return out;
+}
+
 std::string wrapped_source(const Shader& shader, unsigned kind_bit) {
-  const Kind& kind = kind_of(kind_bit);
+  const Kind& kind = kind_of(kind_bit, shader.view_space);
   // The user's functions come first, as their own file for the compiler's messages
   // (GL_GOOGLE_cpp_style_line_directive: #line with a file name).
   return fmt::format(R"GLSL(#version 450
@@ -298,21 +389,31 @@ void main() {{
 )GLSL",
                      fmt::arg("group", kGroupSize), fmt::arg("upper", [&] {
                        std::string u = kind.name;
-                       for (char& c : u) c = char(c - 'a' + 'A');
+                       for (char& c : u) c = char(std::toupper(static_cast<unsigned char>(c)));
                        return u;
                      }()),
                      fmt::arg("file", shader.file), fmt::arg("glsl", shader.glsl), fmt::arg("kind", kind.name),
                      fmt::arg("words", kind.words), fmt::arg("call", kind.call));
 }
 
-Method make_shader_method(MethodInfo info, const Shader& shader, std::shared_ptr<Device> device) {
+Method make_shader_method(MethodInfo info, const Shader& shader, std::shared_ptr<Device> device,
+                          const Arithmetic& arithmetic) {
   if (info.volumes == 0) throw std::invalid_argument("shader method '" + info.name + "': no volume kinds (\"volumes\")");
   if (info.stateful) throw std::invalid_argument("shader method '" + info.name + "': a shader is not stateful");
   if (!device) device = open_device();
   const DeviceInfo& d = device->info();
+  if ((arithmetic.contract || arithmetic.bounds != 0) && !(d.float64 && d.int64))
+    throw std::invalid_argument(fmt::format(
+        "shader method '{}': arithmetic {} is emulated in 64-bit floats and integers, which {} does not have "
+        "(shaderFloat64 {}, shaderInt64 {})",
+        info.name, to_string(arithmetic), d.name, d.float64 ? "yes" : "no", d.int64 ? "yes" : "no"));
   info.source += (info.source.empty() ? "" : "; ") +
                  fmt::format("run on {} ({})", d.name, d.driver_info.empty() ? d.driver_name : d.driver_name + " " + d.driver_info);
-  auto runner = std::make_shared<Runner>(info, shader, device);
+  if (!arithmetic.device_only()) {
+    info.name += "@" + to_string(arithmetic);
+    info.source += "; arithmetic emulated: " + to_string(arithmetic) + " (docs/gpu.md)";
+  }
+  auto runner = std::make_shared<Runner>(info, shader, device, arithmetic);
   Method m(
       info, [runner](const CaseFrustum& f) -> std::unique_ptr<PreparedFrustum> { return std::make_unique<Prepared>(runner, f); },
       /*batch=*/true);

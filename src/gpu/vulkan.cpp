@@ -66,6 +66,10 @@ DeviceInfo describe_device(VkPhysicalDevice p, std::uint32_t index, double* time
   bool queue_timestamps = false;
   compute_family(p, &queue_timestamps);
   d.timestamps = queue_timestamps && props.limits.timestampComputeAndGraphics;
+  VkPhysicalDeviceFeatures features{};
+  vkGetPhysicalDeviceFeatures(p, &features);
+  d.float64 = features.shaderFloat64;
+  d.int64 = features.shaderInt64;
   if (timestamp_period) *timestamp_period = double(props.limits.timestampPeriod);
   if (VK_API_VERSION_MINOR(props.apiVersion) >= 2 || VK_API_VERSION_MAJOR(props.apiVersion) > 1) {
     VkPhysicalDeviceVulkan12Properties v12{};
@@ -154,9 +158,10 @@ std::string describe(const MeasuredArithmetic& m) {
 }
 
 std::string describe(const DeviceInfo& d) {
-  return fmt::format("device {}: {} ({}), Vulkan {}, driver {} ({}), timestamps {}\n", d.index, d.name, d.type,
-                     d.api_version, d.driver_name.empty() ? std::string("unnamed") : d.driver_name,
-                     d.driver_info.empty() ? "version " + d.driver_version : d.driver_info, d.timestamps ? "yes" : "no") +
+  return fmt::format("device {}: {} ({}), Vulkan {}, driver {} ({}), timestamps {}, 64-bit floats {}, 64-bit integers {}\n",
+                     d.index, d.name, d.type, d.api_version, d.driver_name.empty() ? std::string("unnamed") : d.driver_name,
+                     d.driver_info.empty() ? "version " + d.driver_version : d.driver_info, d.timestamps ? "yes" : "no",
+                     d.float64 ? "yes" : "no", d.int64 ? "yes" : "no") +
          describe(d.float_controls) + describe(d.measured);
 }
 
@@ -222,10 +227,16 @@ Device::Device(const std::string& selector) {
   q.queueFamilyIndex = family_;
   q.queueCount = 1;
   q.pQueuePriorities = &priority;
+  // 64-bit floats and integers where the device has them: the emulated arithmetic (arithmetic.cpp)
+  // computes in them.
+  VkPhysicalDeviceFeatures features{};
+  features.shaderFloat64 = info_.float64;
+  features.shaderInt64 = info_.int64;
   VkDeviceCreateInfo dci{};
   dci.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &q;
+  dci.pEnabledFeatures = &features;
   check(vkCreateDevice(physical_, &dci, nullptr, &device_), "vkCreateDevice");
   vkGetDeviceQueue(device_, family_, 0, &queue_);
 

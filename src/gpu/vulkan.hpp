@@ -95,6 +95,20 @@ class Pipeline {
 /// is as written); std::invalid_argument with the compiler's messages, naming `file`.
 std::vector<std::uint32_t> compile_glsl(const std::string& source, const std::string& file);
 
+/// `spirv` rewritten to compute with `a`'s arithmetic (its half_storage aside, which is the
+/// volumes' upload): inlined and put in SSA form first (SPIRV-Tools; no change to any value), then
+/// each instruction the variants touch replaced by its emulation; the result validated.
+/// std::logic_error when it does not validate (an instruction the rewriting does not handle).
+std::vector<std::uint32_t> emulate_arithmetic(const std::vector<std::uint32_t>& spirv, const Arithmetic& a);
+
+/// x rounded to binary16, to nearest even (overflow to infinity), and back: exact.
+float round_to_half(float x);
+
+/// The head of a compute shader over a Pipeline's buffers read as floats in and words out:
+/// `#version 450`, `local_size` invocations a group, `x[]` (floats in), `y[]` (words out), `count`
+/// (the push constant); the frames' buffer, unused, as `unused[]`.
+std::string float_kernel_head(std::uint32_t local_size);
+
 /// Runs the arithmetic probe on `device` (MeasuredArithmetic).
 MeasuredArithmetic probe_arithmetic(const std::shared_ptr<Device>& device);
 

@@ -2,6 +2,9 @@
 // (examples/shaders/plane-tests.glsl) holds its claim through the test helper's defaults; each
 // planted bug (the example with one change) is refuted with a shrunk, claim-breaking case written;
 // many frames in one dispatch answer as each frame alone; what is wrong with a shader is named.
+// Under the arithmetic a device may use (gpu::Arithmetic), emulated: the certified shader holds
+// under every variant of the arithmetic, the example falls to two of them, half storage breaks
+// every shader; the view-space shaders hold on the frustums they describe.
 #include "cullproof/corpus/corpus.hpp"
 #include "cullproof/gpu/gpu.hpp"
 #include "cullproof/gtest/gtest.hpp"
@@ -9,6 +12,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -47,10 +53,41 @@ MethodInfo described(const std::string& name, unsigned volumes) {
   return info;
 }
 
-Method example() {
-  return gpu::make_shader_method(described("glsl-plane-tests", kPointKind | kSphereKind | kAabbKind | kObbKind),
-                                 {read("examples/shaders/plane-tests.glsl"), "plane-tests.glsl"}, device());
+constexpr unsigned kAllKinds = kPointKind | kSphereKind | kAabbKind | kObbKind;
+
+Method example(const gpu::Arithmetic& a = {}) {
+  return gpu::make_shader_method(described("glsl-plane-tests", kAllKinds),
+                                 {read("examples/shaders/plane-tests.glsl"), "plane-tests.glsl"}, device(), a);
 }
+
+Method certified(const gpu::Arithmetic& a) {
+  MethodInfo info = described("glsl-certified-plane-tests", kAllKinds);
+  info.claim = Claim::certified_conservative;
+  info.tolerance = 0.0;
+  return gpu::make_shader_method(info, {read("examples/shaders/certified-plane-tests.glsl"), "certified-plane-tests.glsl"},
+                                 device(), a);
+}
+
+// One of the view-space sphere shaders (two-way).
+Method view_space(const std::string& stem) {
+  MethodInfo info = described("glsl-" + stem, kSphereKind);
+  info.three_way = false;
+  return gpu::make_shader_method(info, {read("examples/shaders/" + stem + ".glsl"), stem + ".glsl", true}, device());
+}
+
+// claim_holds with its corpus in a fresh folder of its own, removed after.
+::testing::AssertionResult holds(const Method& m, std::uint64_t cases = 2000) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cullproof-gpu-" + m.name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  testing::ClaimOptions o;
+  o.corpus = dir;
+  o.cases = cases;
+  ::testing::AssertionResult r = testing::claim_holds(m, o);
+  std::filesystem::remove_all(dir);
+  return r;
+}
+
+gpu::Arithmetic variant(const std::string& text) { return gpu::parse_arithmetic(text); }
 
 TEST(GpuDevice, StatesItsFloatControlsAndItsMeasuredArithmetic) {
   const gpu::DeviceInfo& d = gpu::info(*device());
@@ -195,6 +232,70 @@ TEST(GpuShader, AnAnswerThatIsNotAVerdictIsAFaultNamingIt) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("answered 7"), std::string::npos) << e.what();
   }
+}
+
+// ---- the arithmetic a device may use, emulated (docs/gpu.md)
+
+TEST(GpuArithmetic, TheCertifiedShaderHoldsUnderEveryArithmeticTheSpecificationAllows) {
+  for (const gpu::Arithmetic& a : gpu::all_arithmetic()) {
+    if (a.half_storage) continue;
+    EXPECT_TRUE(holds(certified(a))) << gpu::to_string(a);
+  }
+}
+
+TEST(GpuArithmetic, HalfStorageRefutesEvenTheCertifiedShader) {
+  // A change of the volume, not of the arithmetic: no margin in the shader covers it.
+  EXPECT_FALSE(holds(certified(variant("half")), 500));
+}
+
+TEST(GpuArithmetic, TheExampleFallsToLengthAtItsLowerBoundAndToFlushing) {
+  // r * length(n) a few ulps short culls spheres that touch the frustum (the contact family);
+  // tiny planes flushed to zero lose the sphere test's scaling (the subnormal family).
+  EXPECT_FALSE(holds(example(variant("bounds-low")), 500));
+  EXPECT_FALSE(holds(example(variant("flush"))));
+  EXPECT_TRUE(holds(example(variant("contract"))));  // every expression precise: nothing to fuse
+}
+
+TEST(GpuArithmetic, AVariantNamesTheMethod) {
+  EXPECT_EQ(example(variant("flush+contract")).name, "glsl-plane-tests@contract+flush");
+  EXPECT_EQ(example().name, "glsl-plane-tests");
+  EXPECT_NE(example(variant("half")).source.find("arithmetic emulated: half"), std::string::npos);
+}
+
+// ---- the view-space form
+
+TEST(GpuShader, TheViewSpaceShadersHoldTheirClaimsOnTheFrustaTheyDescribe) {
+  EXPECT_TRUE(holds(view_space("view-symmetric-sphere")));
+  EXPECT_TRUE(holds(view_space("projected-sphere")));
+}
+
+TEST(GpuShader, TheViewSpaceFormDescribesSymmetricPerspectiveFrustaOnly) {
+  const glm::vec3 eye(3.0f, -2.0f, 5.0f);
+  const glm::mat4 view = glm::lookAtRH(eye, eye + glm::vec3(1.0f, 0.5f, -1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  const float n = 0.5f, f = 80.0f, t = n * 0.75f, r = t * 1.5f;  // tan(half fov up) = 0.75, across 1.125
+  const auto v = gpu::view_space_frustum(frustum_spec(glm::frustumRH_NO(-r, r, -t, t, n, f) * view, {}).planes);
+  ASSERT_TRUE(v.has_value());
+  const auto& x = *v;
+  EXPECT_NEAR(x[20], n, 1e-5);                // near
+  EXPECT_NEAR(x[21], f, 1e-3);                // far
+  EXPECT_NEAR(x[22], 1.0 / 1.125, 1e-5);      // P00 = cot(half fov across)
+  EXPECT_NEAR(x[23], 1.0 / 0.75, 1e-5);       // P11
+  EXPECT_NEAR(x[17] / x[16], 1.125, 1e-5);    // the left plane's (x, z): tan of the half angle
+  // The eye goes to the origin; a point ahead of it to (0, 0, its distance).
+  const glm::mat4 to_view(glm::vec4(x[0], x[1], x[2], x[3]), glm::vec4(x[4], x[5], x[6], x[7]),
+                          glm::vec4(x[8], x[9], x[10], x[11]), glm::vec4(x[12], x[13], x[14], x[15]));
+  const glm::vec3 at_eye = glm::vec3(to_view * glm::vec4(eye, 1.0f));
+  EXPECT_NEAR(glm::length(at_eye), 0.0f, 1e-5f);
+  const glm::vec3 ahead = glm::vec3(to_view * glm::vec4(eye + 6.0f * glm::normalize(glm::vec3(1.0f, 0.5f, -1.0f)), 1.0f));
+  EXPECT_NEAR(ahead.z, 6.0f, 1e-4f);
+  EXPECT_NEAR(ahead.x, 0.0f, 1e-4f);
+  EXPECT_NEAR(ahead.y, 0.0f, 1e-4f);
+  // Off-axis and orthographic frusta are not described; an infinite far plane is.
+  EXPECT_FALSE(gpu::view_space_frustum(frustum_spec(glm::frustumRH_NO(-r, 2 * r, -t, t, n, f) * view, {}).planes));
+  EXPECT_FALSE(gpu::view_space_frustum(frustum_spec(glm::orthoRH_NO(-r, r, -t, t, n, f) * view, {}).planes));
+  const auto infinite = gpu::view_space_frustum(frustum_spec(glm::infinitePerspectiveRH(1.0f, 1.5f, n) * view, {}).planes);
+  ASSERT_TRUE(infinite.has_value());
+  EXPECT_TRUE(std::isinf((*infinite)[21]));
 }
 
 }  // namespace

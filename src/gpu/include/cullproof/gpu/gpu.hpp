@@ -17,8 +17,10 @@
 
 #include "cullproof/methods/methods.hpp"
 
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,7 @@ struct DeviceInfo {
   FloatControls float_controls;
   MeasuredArithmetic measured;
   bool timestamps = false;  ///< compute queues write timestamps (the device's own time is measured)
+  bool float64 = false, int64 = false;  ///< shaderFloat64, shaderInt64 (the emulated arithmetic needs both)
 };
 
 /// The float controls as lines "float32: subnormals preserved no, flushed no; ...".
@@ -77,12 +80,64 @@ std::shared_ptr<Device> open_device(const std::string& selector = "");
 /// The device's description.
 const DeviceInfo& info(const Device& d);
 
+/// Arithmetic a device may use that the device at hand need not show, emulated on it: the shader's
+/// SPIR-V rewritten so that it computes as such a device would (docs/gpu.md, "Arithmetic a device
+/// may use"). The default, no variant, runs the shader as the device computes it.
+struct Arithmetic {
+  /// Every a * b + c that SPIR-V lets a compiler contract (neither operation NoContraction, GLSL
+  /// `precise`), and every dot product's sum of products, fused: rounded once, exactly (in 64-bit
+  /// floats rounded to odd, then to float: Boldo and Melquiond 2008); GLSL fma() fused.
+  bool contract = false;
+  /// Subnormal 32-bit operands and results of every floating-point instruction flushed to zero
+  /// (sign kept), as a device with DenormFlushToZero does.
+  bool flush = false;
+  /// -1 or +1: inversesqrt, division, and what the Vulkan specification derives from them (sqrt,
+  /// length, distance, normalize) return the float farthest from the exact value, toward zero (-1)
+  /// or away from it (+1), that their error bound allows; 0: as the device computes them.
+  int bounds = 0;
+  /// The volume's floats stored in half precision (binary16, rounded to nearest even) before the
+  /// shader reads them, as meshlet bounds often are; the planes stay 32-bit.
+  bool half_storage = false;
+
+  bool device_only() const noexcept { return !contract && !flush && bounds == 0 && !half_storage; }
+  friend bool operator==(const Arithmetic& a, const Arithmetic& b) {
+    return a.contract == b.contract && a.flush == b.flush && a.bounds == b.bounds && a.half_storage == b.half_storage;
+  }
+};
+
+/// "device", or the variants joined by '+' ("contract+flush+bounds-low+half").
+std::string to_string(const Arithmetic& a);
+/// The inverse of to_string; std::invalid_argument naming a word that is not a variant.
+Arithmetic parse_arithmetic(const std::string& text);
+/// The variants `--arithmetic all` runs: device, contract, flush, bounds-low, bounds-high, half, and
+/// contract+flush+bounds-low (a device that fuses, flushes and is as inexact as allowed).
+std::vector<Arithmetic> all_arithmetic();
+
 /// A culling shader: its GLSL source (the functions above), and the name to report it by in a
 /// compiler message (its file).
+///
+/// With `view_space`, spheres go to the view-space form GPU-driven renderers use instead:
+///
+///   uint cull_sphere_view(mat4 view, vec4 frustum, vec4 depth, vec3 center, float radius);
+///
+/// `view` maps world space to view space (x right, y up, z the distance along the view
+/// direction); in view space the left plane's inward unit normal is (frustum.x, 0, frustum.y) and
+/// the bottom's (0, frustum.z, frustum.w), the right's and top's their mirror images; `depth` is
+/// (near, far, P00, P11): the near and far distances along z (far may be +inf) and the projection's
+/// scales, cot of half the field of view across and up (frustum.x / frustum.y, frustum.z /
+/// frustum.w): a point's screen coordinates are (P00 x / z, P11 y / z). This describes a symmetric perspective frustum only: a case whose frustum is not one
+/// (within 2^-16, relatively, of its float planes) is not asked, and the shader's answer for its
+/// spheres is left out of its counts (the method does not apply to it).
 struct Shader {
   std::string glsl;
   std::string file = "shader.glsl";
+  bool view_space = false;
 };
+
+/// The view-space description of a symmetric perspective frustum (Shader::view_space), as the
+/// shader receives it: 24 floats (view's columns, frustum, depth); std::nullopt when the frustum is
+/// not one.
+std::optional<std::array<float, 24>> view_space_frustum(const Frustum& planes);
 
 /// The shader as a Method with `info`'s description (claim, tolerance, volumes, three_way, ...),
 /// run on `device` (open_device() when null). Each kind of info.volumes is compiled at once: a
@@ -90,7 +145,12 @@ struct Shader {
 /// shader); a Vulkan failure throws std::runtime_error. The method is not stateful; it answers many frames in one dispatch per kind
 /// (Method::on_frames) and reports the device's own time (Method::on_own_timing). A verdict not
 /// 0, 1 or 2 throws, naming the volume. Calls from several threads take turns on the device.
-Method make_shader_method(MethodInfo info, const Shader& shader, std::shared_ptr<Device> device = nullptr);
+///
+/// With an `arithmetic` other than the device's own, the method is named NAME@VARIANT (to_string)
+/// and its SPIR-V is rewritten to compute so; a variant computing in 64-bit (contract, bounds) on a
+/// device without shaderFloat64 and shaderInt64 throws std::invalid_argument saying so.
+Method make_shader_method(MethodInfo info, const Shader& shader, std::shared_ptr<Device> device = nullptr,
+                          const Arithmetic& arithmetic = {});
 
 /// The compute shader that wraps `shader` for volumes of `kind_bit` (kPointKind ...): what is
 /// compiled (for a reader of docs/gpu.md, and for a compiler message's context).

@@ -1,0 +1,243 @@
+// The emulated arithmetic (src/gpu/arithmetic.cpp) computes what it says, on the device: a fused
+// a * b + c equal to std::fma, bit for bit, where contraction is allowed and nowhere else;
+// subnormal operands and results flushed; inversesqrt, division, sqrt and length at the farthest
+// float their error bound allows, each way; half storage rounded to nearest even.
+#include "vulkan.hpp"  // the library's private side: compile_glsl, emulate_arithmetic, Pipeline, float_kernel_head
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace cullproof::gpu {
+namespace {
+
+const std::shared_ptr<Device>& device() {
+  static const std::shared_ptr<Device> d = open_device();
+  return d;
+}
+
+std::uint32_t bits(float x) {
+  std::uint32_t w;
+  std::memcpy(&w, &x, 4);
+  return w;
+}
+float from_bits(std::uint32_t w) {
+  float x;
+  std::memcpy(&x, &w, 4);
+  return x;
+}
+
+// `count` invocations of `body` (which reads x[] and writes y[i] for invocation i) under `a`.
+std::vector<float> run(const std::string& body, const std::vector<float>& x, std::uint32_t count, const Arithmetic& a) {
+  const std::string source = float_kernel_head(64) + R"GLSL(
+float f(uint i);
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= count) return;
+  y[i] = floatBitsToUint(f(i));
+}
+)GLSL" + body;
+  Pipeline p(device(), emulate_arithmetic(compile_glsl(source, "test shader"), a));
+  std::vector<std::uint32_t> in, out;
+  for (float v : x) in.push_back(bits(v));
+  std::lock_guard<std::mutex> lock(device()->mutex());
+  p.dispatch({0.0f, 0.0f, 0.0f, 0.0f}, in, count, out);
+  std::vector<float> r;
+  for (std::uint32_t i = 0; i < count; ++i) r.push_back(from_bits(out[i]));
+  return r;
+}
+
+Arithmetic contract() {
+  Arithmetic a;
+  a.contract = true;
+  return a;
+}
+
+// Triples whose products and sums round: random, near cancellation, the probe's (1 + 2^-23)(1 - 2^-23) - 1,
+// one that rounding twice (to double, then to float) gets wrong, and subnormal, huge and
+// signed-zero cases.
+std::vector<float> triples(std::size_t n) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-4.0f, 4.0f);
+  std::uniform_int_distribution<int> e(-140, 120);
+  std::vector<float> x;
+  const float eps = std::ldexp(1.0f, -23);
+  for (float v : {1.0f + eps, 1.0f - eps, -1.0f, std::ldexp(1.0f, -75), std::ldexp(1.0f, -75), 0.0f, 3.0f, 5.0f, -15.0f,
+                  -0.0f, 1.0f, 0.0f, 3e38f, 2.0f, -3e38f})
+    x.push_back(v);
+  // (64 + 2^-9)(1 - 2^-15) = 64 - 2^-24; + (2^30 + 128), whose last bit is odd: just below the
+  // midpoint 2^30 + 192, so 2^30 + 128; a double sum rounds to the midpoint, and then to even.
+  x.insert(x.end(), {64.0f + std::ldexp(1.0f, -9), 1.0f - std::ldexp(1.0f, -15), std::ldexp(1.0f, 30) + 128.0f});
+  while (x.size() < 3 * n) {
+    const float a = std::ldexp(u(rng), e(rng) / 2), b = std::ldexp(u(rng), e(rng) / 2);
+    const float c = (rng() % 2) ? -float(double(a) * double(b)) * (1.0f + u(rng) * 1e-6f) : std::ldexp(u(rng), e(rng));
+    x.insert(x.end(), {a, b, c});
+  }
+  return x;
+}
+
+TEST(EmulatedArithmetic, ContractionFusesExactlyAsFmaWhereAllowed) {
+  const std::size_t n = 20000;
+  const std::vector<float> x = triples(n);
+  const std::string body = "float f(uint i) { return x[3u * i] * x[3u * i + 1u] + x[3u * i + 2u]; }\n";
+  const std::vector<float> fused = run(body, x, n, contract());
+  const std::vector<float> device_only = run(body, x, n, {});
+  std::size_t differs = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float want = std::fma(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    ASSERT_EQ(bits(fused[i]), bits(want)) << "fma(" << x[3 * i] << ", " << x[3 * i + 1] << ", " << x[3 * i + 2] << ")";
+    differs += bits(device_only[i]) != bits(want);
+  }
+  EXPECT_EQ(device_only[0], 0.0f);  // rounded twice: the probe's case
+  EXPECT_EQ(fused[0], -std::ldexp(1.0f, -46));
+  EXPECT_EQ(fused[5], std::ldexp(1.0f, 30) + 128.0f);
+  EXPECT_EQ(float(double(x[15]) * double(x[16]) + double(x[17])), std::ldexp(1.0f, 30) + 256.0f);  // rounded twice
+  EXPECT_GT(differs, n / 20) << "the triples should tell a fused result from a rounded one";
+}
+
+TEST(EmulatedArithmetic, ContractionFusesSubtractionsVectorsDotsAndStoredProducts) {
+  const std::size_t n = 4000;
+  const std::vector<float> x = triples(n);
+  // c - a * b; a product kept in a variable, added in another statement; a vec3 a * s + c; a dot.
+  const std::string body = R"GLSL(
+float f(uint i) {
+  float a = x[3u * i], b = x[3u * i + 1u], c = x[3u * i + 2u];
+  uint k = i % 4u;
+  if (k == 0u) return c - a * b;
+  if (k == 1u) { float m = a * b; float s = m + c; return s; }
+  if (k == 2u) return (vec3(a, 1.0, 2.0) * b + vec3(c, 0.0, 0.0)).x;
+  return dot(vec2(a, 1.0), vec2(b, c));
+}
+)GLSL";
+  const std::vector<float> r = run(body, x, n, contract());
+  for (std::size_t i = 0; i < n; ++i) {
+    const float a = x[3 * i], b = x[3 * i + 1], c = x[3 * i + 2];
+    const float want = i % 4 == 0 ? std::fma(-a, b, c) : i % 4 == 3 ? std::fma(1.0f, c, a * b) : std::fma(a, b, c);
+    ASSERT_EQ(bits(r[i]), bits(want)) << "case " << i % 4 << ": " << a << ", " << b << ", " << c;
+  }
+}
+
+TEST(EmulatedArithmetic, NoContractionWherePreciseForbidsIt) {
+  const std::size_t n = 4000;
+  const std::vector<float> x = triples(n);
+  const std::string body =
+      "float f(uint i) { precise float r = x[3u * i] * x[3u * i + 1u] + x[3u * i + 2u]; return r; }\n";
+  const std::vector<float> r = run(body, x, n, contract());
+  for (std::size_t i = 0; i < n; ++i) {
+    const float want = x[3 * i] * x[3 * i + 1] + x[3 * i + 2];  // -ffp-contract=off: rounded twice
+    ASSERT_EQ(bits(r[i]), bits(want));
+  }
+}
+
+TEST(EmulatedArithmetic, FlushingFlushesSubnormalOperandsAndResults) {
+  Arithmetic a;
+  a.flush = true;
+  const float tiny = std::ldexp(1.0f, -140), small = std::ldexp(1.0f, -70);
+  const std::vector<float> x{tiny, 1.0f, small, -tiny, 2.0f};
+  const std::string body = R"GLSL(
+float f(uint i) {
+  if (i == 0u) return x[0] * x[1];                  // a subnormal operand: 0
+  if (i == 1u) return x[2] * x[2];                  // a subnormal result: 0
+  if (i == 2u) return x[3] < 0.0 ? 1.0 : 0.0;       // compared as -0: not below zero
+  if (i == 3u) return x[3] + x[4];                  // 2
+  return x[2] * x[1];                               // a normal product: kept
+}
+)GLSL";
+  const std::vector<float> flushed = run(body, x, 5, a), kept = run(body, x, 5, {});
+  EXPECT_EQ(flushed[0], 0.0f);
+  EXPECT_EQ(flushed[1], 0.0f);
+  EXPECT_EQ(flushed[2], 0.0f);
+  EXPECT_EQ(flushed[3], 2.0f);
+  EXPECT_EQ(flushed[4], small);
+  EXPECT_EQ(kept[0], tiny);  // lavapipe keeps subnormals (what the variant exists to go beyond)
+  EXPECT_EQ(kept[1], std::ldexp(1.0f, -140));
+  EXPECT_EQ(kept[2], 1.0f);
+}
+
+// ulp(x) as the Vulkan specification defines it, for a positive x in float range.
+long double ulp(long double x) {
+  int e = 0;
+  std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1)
+  if (x == std::ldexp(0.5L, e)) e -= 1;  // a power of two: the spacing below it
+  return std::ldexp(1.0L, std::max(e - 24, -149));
+}
+
+TEST(EmulatedArithmetic, ErrorBoundsGiveTheFarthestFloatAllowedEachWay) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.5f, 1.0f);
+  std::uniform_int_distribution<int> e(-100, 100);
+  std::vector<float> x;
+  for (float v : {1.0f, 4.0f, 0.25f, 2.0f, 3.0f}) x.insert(x.end(), {v, 3.0f});
+  while (x.size() < 2 * 3000) x.insert(x.end(), {std::ldexp(u(rng), e(rng)), std::ldexp(u(rng), e(rng) / 2)});
+  const std::uint32_t n = std::uint32_t(x.size() / 2);
+  const std::string body = R"GLSL(
+float f(uint i) {
+  float a = x[2u * (i / 4u)], b = x[2u * (i / 4u) + 1u];
+  uint k = i % 4u;
+  if (k == 0u) return inversesqrt(a);
+  if (k == 1u) return a / b;
+  if (k == 2u) return sqrt(a);
+  return length(vec2(a, b));
+}
+)GLSL";
+  for (int direction : {-1, +1}) {
+    Arithmetic a;
+    a.bounds = direction;
+    const std::vector<float> r = run(body, x, 4 * n, a);
+    for (std::uint32_t i = 0; i < 4 * n; ++i) {
+      const long double p = x[2 * (i / 4)], q = x[2 * (i / 4) + 1];
+      const int k = int(i % 4);
+      // The exact value, and for the inherited bounds the range their formula allows.
+      if (k == 0 || k == 1) {
+        const long double exact = k == 0 ? 1.0L / std::sqrt(p) : p / q;
+        if (exact > std::numeric_limits<float>::max() || exact < std::numeric_limits<float>::min()) continue;  // out of range
+        const long double reach = (k == 0 ? 2.0L : 2.5L) * ulp(exact);
+        const long double got = r[i];
+        ASSERT_LE(std::fabs(got - exact), reach) << "k " << k << " of " << p << ", " << q;
+        // The farthest: one step further is out of reach.
+        const long double further = std::nextafter(r[i], direction > 0 ? INFINITY : 0.0f);
+        ASSERT_GT(std::fabs(further - exact), reach) << "k " << k << " of " << p << ", " << q;
+        ASSERT_TRUE(direction > 0 ? got >= exact : got <= exact);
+      } else {
+        // length's dot product overflows or flushes as the formula it inherits from does: not
+        // what is measured here.
+        const long double sum = p * p + q * q;
+        if (k == 3 && (sum > std::numeric_limits<float>::max() || q * q < std::numeric_limits<float>::min())) continue;
+        const long double exact = k == 2 ? std::sqrt(p) : std::sqrt(p * p + q * q);
+        ASSERT_TRUE(direction > 0 ? r[i] >= exact * (1 - 1e-7L) : r[i] <= exact * (1 + 1e-7L))
+            << "k " << k << " of " << p << ", " << q;
+        ASSERT_LE(std::fabs(r[i] - exact) / exact, 6.0L * std::ldexp(1.0L, -23)) << "k " << k;
+      }
+    }
+  }
+}
+
+TEST(EmulatedArithmetic, HalfStorageRoundsToNearestEven) {
+  EXPECT_EQ(round_to_half(1.0f), 1.0f);
+  EXPECT_EQ(round_to_half(1.0f + std::ldexp(1.0f, -11)), 1.0f);                        // a tie: to even
+  EXPECT_EQ(round_to_half(1.0f + 3 * std::ldexp(1.0f, -11)), 1.0f + std::ldexp(1.0f, -9));  // a tie: to even
+  EXPECT_EQ(round_to_half(1.0f + std::ldexp(1.0f, -11) + std::ldexp(1.0f, -20)), 1.0f + std::ldexp(1.0f, -10));
+  EXPECT_EQ(round_to_half(65504.0f), 65504.0f);
+  EXPECT_EQ(round_to_half(65519.0f), 65504.0f);
+  EXPECT_EQ(round_to_half(65520.0f), INFINITY);
+  EXPECT_EQ(round_to_half(-std::ldexp(1.0f, -25)), -0.0f);                   // half the least subnormal: to even, 0
+  EXPECT_EQ(round_to_half(std::ldexp(3.0f, -26)), std::ldexp(1.0f, -24));    // 0.75 of it: up
+  EXPECT_EQ(round_to_half(0.1f), 0.0999755859375f);
+}
+
+TEST(EmulatedArithmetic, VariantsAreNamedAndParsedBack) {
+  for (const Arithmetic& a : all_arithmetic()) EXPECT_EQ(parse_arithmetic(to_string(a)), a) << to_string(a);
+  EXPECT_EQ(to_string(parse_arithmetic("half+contract")), "contract+half");
+  EXPECT_THROW(parse_arithmetic("fused"), std::invalid_argument);
+  EXPECT_THROW(parse_arithmetic("bounds-low+bounds-high"), std::invalid_argument);
+  EXPECT_THROW(parse_arithmetic(""), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace cullproof::gpu
