@@ -111,12 +111,25 @@ struct VerifyCommand {
   CLI::App* cmd = nullptr;
   CLI::Option* index_option = nullptr;
   RunOptions run;
-  std::string json_file, corpus_dir = "corpus";
+  std::string json_file, corpus_dir = "corpus", shard;
   bool no_corpus = false;
   std::uint64_t index = 0;
 };
 void add_verify(CLI::App& app, VerifyCommand& c, ExternalProgram& external);
 int run_verify_command(VerifyCommand& c, const ExternalProgram& external);
+/// "K/N" as a shard; std::invalid_argument naming what is wrong.
+Shard parse_shard(const std::string& text);
+
+/// `merge SHARD.json... [--json FILE] [--partial]`.
+struct MergeCommand {
+  CLI::App* cmd = nullptr;
+  std::vector<std::string> files;
+  std::string json_file;
+  bool partial = false;
+};
+void add_merge(CLI::App& app, MergeCommand& c);
+/// 0, or 1 / 3 as verify (a claim broken, a fault), 4 for a partial merge that is otherwise clean.
+int run_merge_command(const MergeCommand& c);
 
 /// `corpus list|show ID|replay|rerecord METHOD ...`.
 struct CorpusCommand {

@@ -4,7 +4,8 @@
 //   cullproof classify FILE... [--method NAME ...] [--no-oracle] [--external NAME ... -- PROGRAM ARGS...]
 //   cullproof verify [--cases N] [--seed S] [--distribution D ...] [--method M ...] [--threads T]
 //                    [--external NAME|all ... [--external-timeout MS] -- PROGRAM ARGS...]
-//                    [--corpus DIR | --no-corpus] [--json FILE] [--index I]
+//                    [--corpus DIR | --no-corpus] [--json FILE] [--index I | --shard K/N]
+//   cullproof merge SHARD.json... [--json FILE] [--partial]
 //   cullproof corpus list|show ID|replay [--dir DIR] [--strict] [--external NAME|all -- PROGRAM ARGS...]
 //   cullproof report [--from FILE | verify's options] [--out FILE] [--corpus DIR | --no-corpus]
 //   cullproof simulate [SCENE...] [--exhaustive] [--frames N] [--csv FILE] [--json FILE] [--table1]
@@ -50,6 +51,9 @@ static int run(int argc, char** argv) {
   VerifyCommand verify;
   add_verify(app, verify, external);
   commands.emplace_back(&verify.cmd, [&] { return run_verify_command(verify, external); });
+  MergeCommand merge;
+  add_merge(app, merge);
+  commands.emplace_back(&merge.cmd, [&] { return run_merge_command(merge); });
   CorpusCommand corpus;
   add_corpus(app, corpus, external);
   commands.emplace_back(&corpus.cmd, [&] { return run_corpus_command(corpus, external); });

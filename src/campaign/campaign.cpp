@@ -46,6 +46,16 @@ std::int8_t verdict_code(const Answer& a) { return a ? std::int8_t(*a) : kNotApp
 
 constexpr std::uint64_t kNoFault = std::numeric_limits<std::uint64_t>::max();
 
+// The run's cases of distribution d: (first, count).
+std::pair<std::uint64_t, std::uint64_t> range_of(const VerifyOptions& opt, gen::Distribution d) {
+  if (opt.only_index) return {*opt.only_index, 1};
+  if (opt.shard) {
+    const auto [a, b] = shard_cases(d, opt.cases, *opt.shard);
+    return {a, b - a};
+  }
+  return {0, opt.cases};
+}
+
 // One distribution of a run, step by step: the cases drawn frame by frame and judged, the methods
 // run on them (case by case, or on camera paths frame by frame as an engine does, stateful
 // methods on one thread), a method that faults no longer asked past its fault; the errors'
@@ -56,8 +66,8 @@ constexpr std::uint64_t kNoFault = std::numeric_limits<std::uint64_t>::max();
 class DistributionRun {
  public:
   DistributionRun(const VerifyOptions& opt, const std::vector<Method>& ms, gen::Distribution d, Progress& progress)
-      : opt_(opt), ms_(ms), d_(d), progress_(progress), per_(opt.only_index ? 1 : opt.cases),
-        first_(opt.only_index ? *opt.only_index : 0), on_paths_(d == gen::Distribution::camera_path),
+      : opt_(opt), ms_(ms), d_(d), progress_(progress), per_(range_of(opt, d).second),
+        first_(range_of(opt, d).first), on_paths_(d == gen::Distribution::camera_path),
         per_frame_(gen::cases_per_frame(d)), out_(per_), verdicts_(per_ * ms.size(), kNotAsked),
         fault_at_(ms.size()), fault_problem_(ms.size()) {
     for (auto& f : fault_at_) f.store(kNoFault, std::memory_order_relaxed);
@@ -76,6 +86,7 @@ class DistributionRun {
 
     DistributionResult dr;
     dr.distribution = d_;
+    dr.first_case = first_;
     dr.cases_asked = per_;
     dr.interrupted = interrupted;
     dr.oracle_calls = st1.calls - st0.calls;
@@ -695,6 +706,19 @@ class DistributionRun {
 
 }  // namespace
 
+std::pair<std::uint64_t, std::uint64_t> shard_cases(gen::Distribution d, std::uint64_t cases, const Shard& shard) {
+  if (shard.count == 0 || shard.index >= shard.count)
+    throw std::invalid_argument(fmt::format("shard {}/{}: the index must be below the count", shard.index, shard.count));
+  const std::uint64_t unit =
+      d == gen::Distribution::camera_path ? std::uint64_t(gen::kPathFrames * gen::kPathObjects) : gen::cases_per_frame(d);
+  const std::uint64_t frames = cases / unit + (cases % unit != 0);
+  // frames * index / count without overflow: frames and count are below 2^64, their product may not be.
+  const auto cut = [&](std::uint64_t k) {
+    return std::uint64_t((static_cast<unsigned __int128>(frames) * k) / shard.count);
+  };
+  return {std::min(cases, cut(shard.index) * unit), std::min(cases, cut(shard.index + 1) * unit)};
+}
+
 VerifyResult run_verify(const VerifyOptions& opt) { return run_verify(opt, builtin_methods(opt.methods)); }
 
 VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms) {
@@ -710,7 +734,10 @@ VerifyResult run_verify(const VerifyOptions& opt, const std::vector<Method>& ms)
   VerifyResult result;
   result.options = opt;
   result.options.on_distribution = nullptr;
-  Progress progress(opt.progress, (opt.only_index ? 1 : opt.cases) * opt.distributions.size());
+  if (opt.shard && opt.only_index) throw std::invalid_argument("a shard and a single case (--index) together");
+  std::uint64_t total = 0;
+  for (gen::Distribution d : opt.distributions) total += range_of(opt, d).second;
+  Progress progress(opt.progress, total);
   for (gen::Distribution d : opt.distributions) {
     if (opt.stop && opt.stop->load()) {
       result.interrupted = true;

@@ -150,9 +150,14 @@ nlohmann::json to_json(const VerifyResult& r) {
   j["interrupted"] = r.interrupted;
   j["frame_size"] = r.options.frame_size;
   j["timing_frames"] = r.options.timing_frames;
+  if (r.options.shard) {
+    j["shard"] = {{"index", r.options.shard->index}, {"count", r.options.shard->count}};
+    j["run"] = run_identity(r);
+  }
   for (const auto& d : r.distributions) {
     nlohmann::json jd;
     jd["distribution"] = std::string(gen::to_string(d.distribution));
+    jd["first_case"] = d.first_case;
     jd["cases"] = d.cases;
     jd["cases_asked"] = d.cases_asked;
     jd["interrupted"] = d.interrupted;
@@ -169,6 +174,7 @@ nlohmann::json to_json(const VerifyResult& r) {
                  {"index", m.fault->index ? nlohmann::json(*m.fault->index) : nlohmann::json(nullptr)},
                  {"reproduce", m.fault->index ? nlohmann::json(m.fault->reproduce) : nlohmann::json(nullptr)},
                  {"saved", m.fault->saved ? nlohmann::json(m.fault->saved->string()) : nlohmann::json(nullptr)},
+                 {"where", m.fault->where},
                  {"case", m.fault->failing_case}};
       jd["methods"].push_back({{"method", m.method},
                                {"program", m.program.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.program)},
@@ -199,12 +205,38 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"ns_per_test_own", std::isfinite(m.ns_per_test_own) ? nlohmann::json(m.ns_per_test_own) : nlohmann::json(nullptr)},
                                {"fi_distance_histogram", fi_distance_histogram(m.fi_distance)},
                                {"volumes", volume_names(m.volumes)},
+                               {"truth_inside_three_way", m.truth_inside_three_way},
                                {"corpus_written", m.corpus_written},
                                {"violation_ids", m.violation_ids}});
+      if (r.options.shard) {  // in full, a distance that is not finite as its name ("inf": an empty frustum)
+        nlohmann::json all = nlohmann::json::array();
+        for (double x : dist) all.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(fmt::format("{}", x)));
+        jd["methods"].back()["fi_distances"] = all;
+      }
     }
     j["distributions"].push_back(jd);
   }
   return j;
+}
+
+nlohmann::json run_identity(const VerifyResult& r) {
+  nlohmann::json distributions = nlohmann::json::array(), methods = nlohmann::json::array();
+  for (gen::Distribution d : r.options.distributions) distributions.push_back(std::string(gen::to_string(d)));
+  if (!r.distributions.empty())
+    for (const MethodStats& m : r.distributions.front().methods)
+      methods.push_back({{"name", m.method}, {"claim", std::string(to_string(m.claim))},
+                         {"origin", std::string(to_string(m.origin))}, {"program", m.program}});
+  return {{"cullproof", CULLPROOF_VERSION},
+          {"seed", r.options.seed},
+          {"cases_per_distribution", r.options.cases},
+          {"distributions", distributions},
+          {"methods", methods},
+          {"shards", r.options.shard ? r.options.shard->count : 1},
+          {"timing", r.options.timing},
+          {"frame_size", r.options.frame_size},
+          {"timing_frames", r.options.timing_frames},
+          {"corpus_per_class", r.options.corpus_per_class},
+          {"shrink_budget", r.options.shrink_budget}};
 }
 
 std::size_t VerifyResult::faults() const noexcept {

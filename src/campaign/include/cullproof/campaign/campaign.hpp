@@ -43,6 +43,19 @@ namespace cullproof {
 
 struct DistributionResult;
 
+/// Shard `index` of `count` (index < count): one part of a run split over machines (`cullproof
+/// verify --shard K/N`, merged by `cullproof merge`). Every distribution's cases are cut into
+/// `count` consecutive ranges of whole frames (shard_cases); shard K runs range K.
+struct Shard {
+  std::uint64_t index = 0, count = 1;
+};
+
+/// The cases [first, first + n) of `shard` among `cases` of distribution `d`: the family's frames
+/// (gen::cases_per_frame; a camera path's gen::kPathFrames x gen::kPathObjects cases for
+/// camera-path) shared out in order, shard K taking frames [K F / N, (K + 1) F / N) of F. Every
+/// case is in exactly one shard; a shard may have none.
+std::pair<std::uint64_t, std::uint64_t> shard_cases(gen::Distribution d, std::uint64_t cases, const Shard& shard);
+
 struct VerifyOptions {
   std::uint64_t cases = 100000;                ///< per distribution
   std::uint64_t seed = 1;
@@ -53,6 +66,7 @@ struct VerifyOptions {
   int corpus_per_class = 1;                    ///< non-violating errors kept per (method, distribution, class)
   int shrink_budget = 400;                     ///< oracle calls per shrink
   std::optional<std::uint64_t> only_index;     ///< reproduce one case
+  std::optional<Shard> shard;                  ///< run only this shard's cases (not with only_index)
   bool progress = true;                        ///< progress bar on stderr
   bool timing = true;                          ///< measure set-up per frame and ns/test
   std::size_t frame_size = 1024;               ///< volumes per frame when timing
@@ -121,6 +135,7 @@ struct MethodStats {
 
 struct DistributionResult {
   gen::Distribution distribution{};
+  std::uint64_t first_case = 0;  ///< the index of the run's first case (a shard's or --index's)
   std::uint64_t cases = 0;  ///< cases judged by the oracle (fewer than asked when interrupted)
   std::uint64_t cases_asked = 0;
   bool interrupted = false;  ///< VerifyOptions::stop was set before the distribution was done
@@ -159,8 +174,41 @@ void print_tables(const VerifyResult& r, std::ostream& out);
 void print_table(const DistributionResult& d, std::uint64_t seed, std::ostream& out);
 /// What the tables' columns mean, and the run's wall time and state (interrupted).
 void print_table_notes(const VerifyResult& r, std::ostream& out);
-/// The whole result for scripts (and for `cullproof report`).
+/// The whole result for scripts (and for `cullproof report`). A shard's (options.shard) carries
+/// what a merge needs besides: "shard" (index, count), "run" (what identifies the run: version,
+/// seed, cases, distributions, methods, shards, timing) and each method's false-intersect
+/// distances in full ("fi_distances").
 nlohmann::json to_json(const VerifyResult& r);
+
+/// What identifies a run (the "run" of a shard's JSON): two shards merge only when theirs are
+/// equal.
+nlohmann::json run_identity(const VerifyResult& r);
+
+/// A result read back from to_json's JSON (a shard's, with its distances in full; another run's
+/// lacks them, and its distance medians are then unknown). Throws std::invalid_argument naming
+/// `where` and the field that is missing or wrong.
+VerifyResult from_json(const nlohmann::json& j, const std::string& where);
+
+/// One shard's result for merge_shards: the file it came from, its JSON.
+struct ShardFile {
+  std::string file;
+  nlohmann::json json;
+};
+
+/// The shards of one run merged (`cullproof merge`): counts summed exactly, each method's first
+/// violation and fault the earliest (a method is not counted past its fault: the shards after it
+/// are left out of its counts, as one run would not have asked it), the false-intersect distances
+/// pooled, the costs the median of the shards' (each the fastest of its passes, on the same
+/// timing frames), the wall time the sum. Throws std::invalid_argument naming the file: one not a
+/// shard's result, of another run (and the field that differs), a shard given twice, a shard
+/// interrupted, or missing shards (unless `partial`: then `missing` lists them).
+struct MergedRun {
+  VerifyResult result;
+  std::vector<std::uint64_t> missing;  ///< shard indices absent (partial only)
+  std::uint64_t shards = 0;            ///< of the run
+  double longest_shard_seconds = 0.0;
+};
+MergedRun merge_shards(const std::vector<ShardFile>& shards, bool partial);
 
 /// The false-intersect distances (relative to the scene size) counted per decade:
 /// {"first_decade": k0, "counts": [...], "below": n, "above": n}, where counts[i] holds the
