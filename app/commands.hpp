@@ -125,6 +125,7 @@ struct MergeCommand {
   CLI::App* cmd = nullptr;
   std::vector<std::string> files;
   std::string json_file;
+  std::string corpus;  ///< where the merged run's corpus goes (empty: none)
   bool partial = false;
 };
 void add_merge(CLI::App& app, MergeCommand& c);

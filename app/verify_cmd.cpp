@@ -6,6 +6,7 @@
 
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/io/files.hpp"
+#include "cullproof/io/limits.hpp"
 #include "cli_checks.hpp"
 #include "cullproof/corpus/corpus.hpp"
 #ifdef CULLPROOF_HAVE_REPORT
@@ -17,9 +18,7 @@
 #include <cctype>
 #include <csignal>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 #include <limits>
 #include <optional>
 
@@ -28,6 +27,9 @@ namespace cullproof::app {
 namespace {
 
 constexpr std::uint64_t kMaxUnsigned = std::numeric_limits<std::uint64_t>::max();
+// A shard's result holds its counts, its false-intersect distances in full and the text of the
+// records it would write: large runs' results reach hundreds of MiB.
+constexpr std::uintmax_t kMaxShardBytes = std::uintmax_t(4) << 30;  // 4 GiB
 
 // SIGINT and SIGTERM stop the run (VerifyOptions::stop): what was judged is reported, marked
 // interrupted. The handler is installed once per run and resets itself, so a second signal ends
@@ -200,6 +202,9 @@ void add_merge(CLI::App& app, MergeCommand& c) {
                              "summary and JSON: counts summed exactly (docs/cluster.md)");
   c.cmd->add_option("shards", c.files, "The shards' JSON files")->required();
   c.cmd->add_option("--json", c.json_file, "Write the merged result as JSON to FILE");
+  c.cmd->add_option("--corpus", c.corpus,
+                    "Write the merged run's corpus to DIR: the records one run would have written, chosen among the "
+                    "shards' (which must have run with a corpus)");
   c.cmd->add_flag("--partial", c.partial, "Merge the shards given though some are missing or were interrupted (the result "
                                           "says which and is marked partial)");
 }
@@ -207,11 +212,12 @@ void add_merge(CLI::App& app, MergeCommand& c) {
 int run_merge_command(const MergeCommand& c) {
   std::vector<ShardFile> shards;
   for (const std::string& file : c.files) {
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream read;
-    read << in.rdbuf();
-    if (!in || (!in.good() && !in.eof())) throw std::invalid_argument(file + ": cannot be read");
-    const std::string text = read.str();
+    std::string text;
+    try {
+      text = read_file_limited(file, kMaxShardBytes, "a shard's result");
+    } catch (const std::system_error& e) {
+      throw std::invalid_argument(file + ": cannot be read: " + e.code().message());
+    }
     nlohmann::json j;
     try {
       j = nlohmann::json::parse(text);
@@ -220,13 +226,20 @@ int run_merge_command(const MergeCommand& c) {
     }
     shards.push_back({file, std::move(j)});
   }
-  const MergedRun merged = merge_shards(shards, c.partial);
-  const VerifyResult& r = merged.result;
+  MergedRun merged = merge_shards(shards, c.partial);
+  VerifyResult& r = merged.result;
+  if (!c.corpus.empty()) {
+    if (!shards.front().json["run"].value("corpus", false))
+      throw std::invalid_argument(shards.front().file + ": the shards ran without a corpus (--no-corpus): there are no records to merge");
+    write_merged_corpus(r, c.corpus);
+  }
+  std::size_t written = 0;
+  for (const auto& d : r.distributions)
+    for (const auto& m : d.methods) written += m.corpus_written.size();
   std::cout << fmt::format("merged {} of {} shards (seed {}, {} cases per distribution){}\n", merged.shards - merged.missing.size(),
                            merged.shards, r.options.seed, r.options.cases,
                            merged.missing.empty() ? std::string() : fmt::format("; PARTIAL: {} missing", merged.missing.size()));
-  for (const auto& d : r.distributions) print_table(d, r.options.seed, std::cout);
-  print_table_notes(r, std::cout);
+  print_tables(r, std::cout);
   std::cout << fmt::format("merged: counts summed over the shards; costs the median of the shards' (each the fastest of its "
                            "passes over the same frames); wall time the sum, {:.1f} s on the longest shard\n",
                            merged.longest_shard_seconds);
@@ -241,6 +254,7 @@ int run_merge_command(const MergeCommand& c) {
   json["merged"] = {{"shards", merged.shards}, {"files", c.files}, {"partial", !merged.missing.empty()},
                     {"missing_shards", merged.missing}, {"longest_shard_seconds", merged.longest_shard_seconds}};
   if (!c.json_file.empty()) write_file_atomic(c.json_file, json.dump(2) + "\n");
+  if (!c.corpus.empty()) std::cout << "corpus: " << written << " new case(s) written under " << c.corpus << "\n";
   if (!merged.missing.empty()) {
     std::string list;
     for (std::uint64_t k : merged.missing) list += (list.empty() ? "" : ", ") + std::to_string(k);

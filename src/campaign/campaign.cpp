@@ -530,6 +530,7 @@ class DistributionRun {
     std::uint64_t i;
     ErrorClass cls;
     bool violation;
+    double rank = 0.0;  // of a violation: how far beyond its allowance (CorpusCandidate::rank)
   };
   // What recording it takes: the corpus's record of it already (held), or the case shrunk from it
   // (with the camera path or frame it needs) and the method's verdict there (nullopt: none, or a
@@ -602,7 +603,8 @@ class DistributionRun {
     if (opt_.corpus)
       for (auto& [cls, v] : violating) {
         std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-        for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j) pending.push_back({v[j].second, cls, true});
+        for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j)
+          pending.push_back({v[j].second, cls, true, v[j].first});
       }
     return s;
   }
@@ -632,7 +634,7 @@ class DistributionRun {
     const Method& m = ms_[k];
     const CorpusSources sources(*opt_.corpus, m.name, d_);
     for (std::size_t j = 0; j < pending.size(); ++j) {
-      const auto [i, cls, violation] = pending[j];
+      const auto [i, cls, violation, rank] = pending[j];
       Shrunk& r = out[j];
       r.held = sources.held(m, opt_.seed, first_ + i, cls, /*judge=*/violation);
       if (r.held) continue;
@@ -675,11 +677,15 @@ class DistributionRun {
     if (r.held) {
       rec = *r.held;
     } else {
-      if (!r.verdict) return;
+      if (!r.verdict) {  // the shrunk case faulted: no record, in its place too when merged
+        if (opt_.shard) s.corpus_candidates.push_back({first_ + p.i, p.cls, p.violation, p.rank, {}, {}, false, {}});
+        return;
+      }
       rec = write_corpus_case(*opt_.corpus, r.small, ms_[k], *r.verdict, d_, opt_.seed, first_ + p.i, ms_,
                               r.path ? &*r.path : nullptr);
     }
     if (rec.written) s.corpus_written.push_back(rec.id);
+    if (opt_.shard) s.corpus_candidates.push_back({first_ + p.i, p.cls, p.violation, p.rank, rec.id, rec.file, rec.violates, rec.text});
     // Evidence of a counted violation that the shrunk case still shows (shrinking keeps it).
     if (p.violation && rec.violates &&
         std::find(s.violation_ids.begin(), s.violation_ids.end(), rec.id) == s.violation_ids.end())

@@ -212,6 +212,19 @@ nlohmann::json to_json(const VerifyResult& r) {
         nlohmann::json all = nlohmann::json::array();
         for (double x : dist) all.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(fmt::format("{}", x)));
         jd["methods"].back()["fi_distances"] = all;
+        if (r.options.corpus) {  // the records it would write, for the merge to choose among
+          nlohmann::json cs = nlohmann::json::array();
+          for (const CorpusCandidate& c : m.corpus_candidates)
+            cs.push_back({{"index", c.index},
+                          {"class", to_string(c.error)},
+                          {"violation", c.violation},
+                          {"rank", std::isfinite(c.rank) ? nlohmann::json(c.rank) : nlohmann::json("inf")},
+                          {"id", c.id},
+                          {"file", c.file},
+                          {"violates_claim", c.violates},
+                          {"text", c.text}});
+          jd["methods"].back()["corpus_candidates"] = std::move(cs);
+        }
       }
     }
     j["distributions"].push_back(jd);
@@ -235,6 +248,7 @@ nlohmann::json run_identity(const VerifyResult& r) {
           {"timing", r.options.timing},
           {"frame_size", r.options.frame_size},
           {"timing_frames", r.options.timing_frames},
+          {"corpus", r.options.corpus.has_value()},
           {"corpus_per_class", r.options.corpus_per_class},
           {"shrink_budget", r.options.shrink_budget}};
 }

@@ -2,10 +2,17 @@
 // merged into the result one process would have given (campaign.hpp: merge_shards).
 #include "cullproof/campaign/campaign.hpp"
 
+#include "cullproof/corpus/corpus.hpp"
+#include "cullproof/io/case_io.hpp"
+#include "cullproof/io/files.hpp"
+#include "cullproof/io/limits.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <set>
@@ -76,6 +83,12 @@ Origin origin_of(const std::string& s, const std::string& where) {
   for (Origin o : {Origin::published, Origin::own, Origin::user})
     if (s == to_string(o)) return o;
   throw std::invalid_argument(fmt::format("{}: \"origin\" is '{}', not published, own or user", where, s));
+}
+
+ErrorClass error_class_of(const std::string& s, const std::string& where) {
+  for (ErrorClass e : {ErrorClass::false_reject, ErrorClass::false_inside, ErrorClass::false_intersect, ErrorClass::under_inside})
+    if (s == to_string(e)) return e;
+  throw std::invalid_argument(fmt::format("{}: \"class\" is '{}', not an error class", where, s));
 }
 
 gen::Distribution distribution_of(const std::string& name, const std::string& where) {
@@ -164,6 +177,33 @@ MethodStats method_of(const json& m, const std::string& where) {
   s.timed_batch = flag_of(m, "timed_batch", at);
   s.corpus_written = texts_of(m, "corpus_written", at);
   s.violation_ids = texts_of(m, "violation_ids", at);
+  if (m.contains("corpus_candidates")) {
+    const json& cs = m["corpus_candidates"];
+    if (!cs.is_array()) throw std::invalid_argument(at + ": \"corpus_candidates\" is not an array");
+    for (const json& c : cs) {
+      const std::string here = at + ", corpus candidate";
+      CorpusCandidate k;
+      k.index = count_of(c, "index", here);
+      k.error = error_class_of(text_of(c, "class", here), here);
+      k.violation = flag_of(c, "violation", here);
+      const json& rank = field(c, "rank", here);
+      if (rank == "inf")
+        k.rank = std::numeric_limits<double>::infinity();
+      else if (rank.is_number())
+        k.rank = rank.get<double>();
+      else
+        throw std::invalid_argument(fmt::format("{}: \"rank\" is {}, not a number", here, rank.dump()));
+      k.id = text_of(c, "id", here);
+      k.file = text_of(c, "file", here);
+      k.violates = flag_of(c, "violates_claim", here);
+      k.text = text_of(c, "text", here);
+      const std::filesystem::path f(k.file);
+      if (!k.file.empty() && (f.is_absolute() || std::distance(f.begin(), f.end()) != 3 ||
+                              std::any_of(f.begin(), f.end(), [](const std::filesystem::path& x) { return x == ".." || x == "."; })))
+        throw std::invalid_argument(fmt::format("{}: \"file\" is '{}', not <method>/<distribution>/<name>", here, k.file));
+      s.corpus_candidates.push_back(std::move(k));
+    }
+  }
   const json& fault = field(m, "fault", at);
   if (!fault.is_null()) {
     MethodFault f;
@@ -193,9 +233,33 @@ void add_unique(std::vector<std::string>& to, const std::vector<std::string>& fr
     if (std::find(to.begin(), to.end(), x) == to.end()) to.push_back(x);
 }
 
+// Of the shards' corpus candidates (in case order), those one run records, in the order it writes
+// them (campaign.cpp: tally): the first `per_class` errors of each class the claim allows, by case
+// index, then per class the 4 violations farthest beyond their allowance, the earlier case first
+// among equals.
+std::vector<CorpusCandidate> chosen_records(std::vector<CorpusCandidate> all, int per_class) {
+  constexpr std::size_t kViolationsPerClass = 4;  // as the campaign's
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+  std::vector<CorpusCandidate> out;
+  std::map<ErrorClass, int> kept;
+  std::map<ErrorClass, std::vector<CorpusCandidate>> violating;
+  for (CorpusCandidate& c : all) {
+    if (c.violation)
+      violating[c.error].push_back(std::move(c));
+    else if (kept[c.error]++ < per_class)
+      out.push_back(std::move(c));
+  }
+  for (auto& [cls, v] : violating) {
+    std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.rank > b.rank; });
+    for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j) out.push_back(std::move(v[j]));
+  }
+  return out;
+}
+
 // One method's statistics over the shards of a distribution (in shard order): what one run would
 // have counted.
-MethodStats merge_method(const std::vector<const MethodStats*>& parts, const std::vector<std::uint64_t>& first_case) {
+MethodStats merge_method(const std::vector<const MethodStats*>& parts, const std::vector<std::uint64_t>& first_case,
+                         int corpus_per_class) {
   // The earliest fault on a case: past it, one run asks the method nothing more.
   std::optional<std::size_t> faulted;
   for (std::size_t p = 0; p < parts.size(); ++p)
@@ -211,6 +275,8 @@ MethodStats merge_method(const std::vector<const MethodStats*>& parts, const std
   m.corpus_written.clear();
   m.violation_ids.clear();
   m.fault.reset();
+  m.corpus_candidates.clear();
+  std::vector<CorpusCandidate> candidates;
   std::vector<double> ns, setup, own;
   for (std::size_t p = 0; p < parts.size(); ++p) {
     const MethodStats& s = *parts[p];
@@ -224,6 +290,7 @@ MethodStats merge_method(const std::vector<const MethodStats*>& parts, const std
     m.fi_distance.insert(m.fi_distance.end(), s.fi_distance.begin(), s.fi_distance.end());
     add_unique(m.corpus_written, s.corpus_written);
     add_unique(m.violation_ids, s.violation_ids);
+    candidates.insert(candidates.end(), s.corpus_candidates.begin(), s.corpus_candidates.end());
     if (!m.fault && s.fault && !s.fault->index) m.fault = s.fault;  // while timed: the counts stand
     ns.push_back(s.ns_per_test);
     setup.push_back(s.ns_setup_per_frame);
@@ -236,6 +303,7 @@ MethodStats merge_method(const std::vector<const MethodStats*>& parts, const std
   m.ns_setup_per_frame = timed ? median(setup) : std::numeric_limits<double>::quiet_NaN();
   m.ns_per_test_own = timed ? median(own) : std::numeric_limits<double>::quiet_NaN();
   std::sort(m.fi_distance.begin(), m.fi_distance.end());
+  m.corpus_candidates = chosen_records(std::move(candidates), corpus_per_class);
   return m;
 }
 
@@ -371,14 +439,80 @@ MergedRun merge_shards(const std::vector<ShardFile>& files, bool partial) {
                                                   p.method, first.distributions[d].methods[k].method));
         parts.push_back(&p);
       }
-      m.methods.push_back(merge_method(parts, first_case));
+      m.methods.push_back(merge_method(parts, first_case, first.options.corpus_per_class));
     }
     r.distributions.push_back(std::move(m));
   }
+  r.options.corpus.reset();
   for (std::uint64_t k : interrupted)
     if (std::find(out.missing.begin(), out.missing.end(), k) == out.missing.end()) out.missing.push_back(k);
   std::sort(out.missing.begin(), out.missing.end());
   return out;
+}
+
+void write_merged_corpus(VerifyResult& merged, const std::filesystem::path& dir) {
+  // The geometry a record's text holds (its frustum and volume as the case format writes them).
+  const auto geometry = [](std::string_view text, const std::filesystem::path& file) {
+    const CorpusEntry e = parse_corpus_entry(text, file);
+    return format_frustum(e.c.frustum) + format_volume(e.c.volume);
+  };
+  // First every name checked, so that a refusal leaves the folder as it was: a name taken (by an
+  // earlier run, or by an earlier record of this one) must hold the same case, found twice.
+  std::map<std::string, std::string> taken;  // file -> its geometry
+  for (const DistributionResult& d : merged.distributions)
+    for (const MethodStats& m : d.methods)
+      for (const CorpusCandidate& c : m.corpus_candidates) {
+        if (c.file.empty()) continue;
+        const std::filesystem::path file = dir / c.file;
+        std::string mine;
+        try {
+          mine = geometry(c.text, file);
+        } catch (const std::exception& e) {
+          throw std::invalid_argument(fmt::format("a shard's record of case {} ({}) is not a corpus record: {}", c.index, c.file, e.what()));
+        }
+        auto it = taken.find(c.file);
+        if (it == taken.end() && std::filesystem::exists(file)) {
+          std::string there;
+          try {
+            there = geometry(read_file_limited(file, kMaxCaseFileBytes, "a corpus record"), file);
+          } catch (const std::exception& e) {
+            throw std::runtime_error(fmt::format("{}: the merged run's record of case {} goes here, and the file there is "
+                                                 "not a readable record ({})", file.string(), c.index, e.what()));
+          }
+          it = taken.emplace(c.file, std::move(there)).first;
+        }
+        if (it == taken.end())
+          taken.emplace(c.file, std::move(mine));
+        else if (it->second != mine)
+          throw std::runtime_error(fmt::format("{}: holds another case than the merged run's record of case {} under the "
+                                               "same name (two different records under one name; nothing was written)",
+                                               file.string(), c.index));
+      }
+  for (DistributionResult& d : merged.distributions)
+    for (MethodStats& m : d.methods) {
+      m.corpus_written.clear();
+      m.violation_ids.clear();
+      for (const CorpusCandidate& c : m.corpus_candidates) {
+        if (c.file.empty()) continue;  // its shrunk case faulted: no record (the method's fault)
+        const std::filesystem::path file = dir / c.file;
+        bool written = false;
+        if (!std::filesystem::exists(file)) {
+          try {
+            write_file_atomic(file, c.text, /*overwrite=*/false);
+            written = true;
+          } catch (const std::runtime_error&) {
+            if (!std::filesystem::exists(file)) throw;  // else written meanwhile: checked below
+          }
+        }
+        if (!written && geometry(read_file_limited(file, kMaxCaseFileBytes, "a corpus record"), file) != taken.at(c.file))
+          throw std::runtime_error(fmt::format("{}: written meanwhile with another case than the merged run's record of case {}",
+                                               file.string(), c.index));
+        if (written) m.corpus_written.push_back(c.id);
+        if (c.violation && c.violates && std::find(m.violation_ids.begin(), m.violation_ids.end(), c.id) == m.violation_ids.end())
+          m.violation_ids.push_back(c.id);
+      }
+    }
+  merged.options.corpus = dir;
 }
 
 }  // namespace cullproof

@@ -3,6 +3,8 @@
 #include "cullproof/corpus/corpus.hpp"
 
 #include "cullproof/io/case_io.hpp"
+#include "cullproof/io/files.hpp"
+#include "cullproof/io/limits.hpp"
 #include "cullproof/oracle/oracle.hpp"
 
 #include <fmt/format.h>
@@ -13,6 +15,18 @@
 namespace cullproof::detail {
 
 using gen::GenCase;
+
+namespace {
+
+// A held record's file under its corpus folder (<method>/<distribution>/<name>) and its text.
+std::string held_file(const CorpusEntry& e) {
+  return (e.file.parent_path().parent_path().filename() / e.file.parent_path().filename() / e.file.filename()).generic_string();
+}
+std::string read_text_file(const std::filesystem::path& file) {
+  return read_file_limited(file, kMaxCaseFileBytes, "a corpus record");
+}
+
+}  // namespace
 
 std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint64_t index, const Method& m) {
   // A user's method is not in the command-line program: its test reruns the case from the
@@ -80,20 +94,30 @@ CorpusRecord write_corpus_case(const std::filesystem::path& dir, const GenCase& 
   x["index"] = index;
   x["reproduce"] = reproduce_command(seed, d, index, m);
   if (path) x["path"] = to_json(*path);
-  nlohmann::json verdicts = nlohmann::json::object();
-  for (const Method& o : all)
-    if (auto v = path ? checked_classify_path(o, *path) : run_method(o, g))
-      verdicts[o.name] = std::string(to_string(*v));
+  // Every method's verdict on the case; a method that faults on it (its own fault, which its own
+  // run reports) is named with the problem instead, and the record is written all the same.
+  nlohmann::json verdicts = nlohmann::json::object(), faults = nlohmann::json::object();
+  for (const Method& o : all) {
+    try {
+      if (auto v = path ? checked_classify_path(o, *path) : run_method(o, g)) verdicts[o.name] = std::string(to_string(*v));
+    } catch (const std::exception& e) {
+      faults[o.name] = e.what();
+    }
+  }
   x["verdicts"] = verdicts;
-  const auto file = dir / m.name / gen::to_string(d) / fmt::format("{}-{}.json", to_string(cls), hash);
-  if (std::filesystem::exists(file)) return {c.id, false, violates};
+  if (!faults.empty()) x["verdict_faults"] = faults;
+  const std::string relative = fmt::format("{}/{}/{}-{}.json", m.name, gen::to_string(d), to_string(cls), hash);
+  const auto file = dir / relative;
+  CorpusRecord rec{c.id, false, violates, relative, format_case(c, /*pretty=*/true)};
+  if (std::filesystem::exists(file)) return rec;
   try {
-    write_case_file(file, c, /*overwrite=*/false);
+    write_file_atomic(file, rec.text, /*overwrite=*/false);
   } catch (const std::runtime_error&) {
-    if (std::filesystem::exists(file)) return {c.id, false, violates};  // written meanwhile: the same geometry
+    if (std::filesystem::exists(file)) return rec;  // written meanwhile: the same geometry
     throw;
   }
-  return {c.id, true, violates};
+  rec.written = true;
+  return rec;
 }
 
 CorpusSources::CorpusSources(const std::filesystem::path& dir, const std::string& method, gen::Distribution d) {
@@ -133,13 +157,14 @@ std::optional<CorpusRecord> CorpusSources::held(const Method& m, std::uint64_t s
     if (!judge) {
       const Visibility truth = oracle::truth(e.c.frustum, e.c.volume);
       if (truth != *e.c.truth || error_class(e.verdict, truth, m.three_way_on(e.c.volume)) != cls) continue;
-      return CorpusRecord{e.c.id, false, false};
+      return CorpusRecord{e.c.id, false, false, held_file(e), read_text_file(e.file)};
     }
     const oracle::VerdictDistance vd = oracle::distance_to_verdict(e.c.frustum, e.c.volume, e.verdict);
     if (vd.truth != *e.c.truth || error_class(e.verdict, vd.truth, m.three_way_on(e.c.volume)) != cls) continue;
     const double scale = gen::case_scale(e.c.frustum, e.c.volume);
     const bool exact_case = gen::float_exact(e.c.frustum, e.c.volume);
-    return CorpusRecord{e.c.id, false, violates_claim(m.claim, cls, vd.distance, m.tolerance, scale, exact_case)};
+    return CorpusRecord{e.c.id, false, violates_claim(m.claim, cls, vd.distance, m.tolerance, scale, exact_case),
+                        held_file(e), read_text_file(e.file)};
   }
   return std::nullopt;
 }

@@ -5,7 +5,12 @@
 #include "cullproof/campaign/campaign.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -88,12 +93,14 @@ void expect_same(const VerifyResult& one, const VerifyResult& merged, const std:
   }
 }
 
-// Shards 0..n-1 of the run, each through its JSON (as files carry them).
+// Shards 0..n-1 of the run, each through its JSON (as files carry them); with a corpus, each shard
+// writes its own (<corpus>-shard-K).
 std::vector<ShardFile> shards_of(const VerifyOptions& o, std::uint64_t n) {
   std::vector<ShardFile> files;
   for (std::uint64_t k = 0; k < n; ++k) {
     VerifyOptions s = o;
     s.shard = Shard{k, n};
+    if (o.corpus) s.corpus = o.corpus->string() + "-shard-" + std::to_string(k);
     files.push_back({"shard-" + std::to_string(k) + ".json", nlohmann::json::parse(to_json(run_verify(s, methods())).dump())});
   }
   return files;
@@ -136,6 +143,100 @@ TEST(Shards, MergedEqualOneRunForSeveralShardCounts) {
     expect_same(one, merged.result, std::to_string(n) + " shards");
     // And through the merged JSON, as report --from reads it.
     expect_same(one, from_json(nlohmann::json::parse(to_json(merged.result).dump()), "merged"), "merged JSON", false);
+  }
+}
+
+// Every file under `dir`, by its path relative to `dir`, with its bytes.
+std::map<std::string, std::string> files_under(const std::filesystem::path& dir) {
+  std::map<std::string, std::string> out;
+  if (!std::filesystem::exists(dir)) return out;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) {
+      std::ifstream in(e.path(), std::ios::binary);
+      out[std::filesystem::relative(e.path(), dir).generic_string()] = std::string(std::istreambuf_iterator<char>(in), {});
+    }
+  return out;
+}
+
+struct Scratch {
+  std::filesystem::path path = std::filesystem::temp_directory_path() / ("cullproof-shards-" + std::to_string(::getpid()));
+  Scratch() { std::filesystem::remove_all(path); }
+  ~Scratch() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
+TEST(Shards, TheMergedCorpusIsTheOneRunsFileForFile) {
+  const Scratch scratch;
+  VerifyOptions o = run_options();
+  o.distributions = {gen::Distribution::uniform, gen::Distribution::camera_path, gen::Distribution::contact,
+                     gen::Distribution::ulp};
+  o.corpus_per_class = 2;  // the first two of a class may lie in different shards
+  o.corpus = scratch.path / "one";
+  o.faults = scratch.path / "faults";
+  const VerifyResult one = run_verify(o, methods());
+  const auto reference = files_under(scratch.path / "one");
+  // Records of both kinds: errors a claim allows (chosen by index), violations (by rank).
+  std::size_t violations = 0, allowed = 0, with_fault = 0;
+  for (const auto& [name, bytes] : reference) {
+    const auto record = nlohmann::json::parse(bytes);
+    (record.value("violates_claim", false) ? violations : allowed)++;
+    // The faulting method faults on some recorded cases: named there, and the record written.
+    with_fault += record.contains("verdict_faults") && record["verdict_faults"].contains("faults-high-up");
+  }
+  EXPECT_GT(with_fault, 0u);
+  ASSERT_GT(violations, 0u);
+  ASSERT_GT(allowed, 0u);
+  ASSERT_GT(reference.size(), 20u);
+  for (std::uint64_t n : {3u, 7u}) {
+    const std::string what = std::to_string(n) + " shards";
+    o.corpus = scratch.path / ("run-of-" + std::to_string(n));
+    MergedRun merged = merge_shards(shards_of(o, n), false);
+    // The shards' corpora together hold more than the run's: each its own first and farthest.
+    std::size_t shard_files = 0;
+    for (std::uint64_t k = 0; k < n; ++k)
+      shard_files += files_under(o.corpus->string() + "-shard-" + std::to_string(k)).size();
+    EXPECT_GT(shard_files, reference.size()) << what;
+    const auto merged_dir = scratch.path / ("merged-" + std::to_string(n));
+    write_merged_corpus(merged.result, merged_dir);
+    const auto files = files_under(merged_dir);
+    EXPECT_EQ(files.size(), reference.size()) << what;
+    for (const auto& [name, bytes] : reference) {
+      const auto f = files.find(name);
+      if (f == files.end())
+        ADD_FAILURE() << what << ": " << name << " missing from the merged corpus";
+      else
+        EXPECT_EQ(f->second, bytes) << what << ": " << name << " differs";
+    }
+    for (const auto& [name, bytes] : files) EXPECT_TRUE(reference.count(name)) << what << ": " << name << " not the one run's";
+    for (std::size_t d = 0; d < one.distributions.size(); ++d)
+      for (std::size_t k = 0; k < one.distributions[d].methods.size(); ++k) {
+        const MethodStats &a = one.distributions[d].methods[k], &b = merged.result.distributions[d].methods[k];
+        EXPECT_EQ(a.corpus_written, b.corpus_written) << what << ", " << a.method;
+        EXPECT_EQ(a.violation_ids, b.violation_ids) << what << ", " << a.method;
+      }
+    // Merged again into the same folder: every name is taken, nothing is written or changed.
+    write_merged_corpus(merged.result, merged_dir);
+    EXPECT_EQ(files_under(merged_dir), files) << what;
+    for (const auto& d : merged.result.distributions)
+      for (const auto& m : d.methods) EXPECT_TRUE(m.corpus_written.empty()) << what << ", " << m.method;
+    // A name holding another case (another record's text under it) is refused before anything is
+    // written.
+    if (n != 3) continue;
+    const auto clash = scratch.path / "clash";
+    const auto first = reference.begin(), other = std::next(reference.begin());
+    std::filesystem::create_directories((clash / first->first).parent_path());
+    std::ofstream(clash / first->first, std::ios::binary) << other->second;
+    try {
+      write_merged_corpus(merged.result, clash);
+      ADD_FAILURE() << "a name holding another case was not refused";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(first->first + ": holds another case than the merged run's record of case"),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(files_under(clash).size(), 1u) << "nothing written after a refusal";
   }
 }
 

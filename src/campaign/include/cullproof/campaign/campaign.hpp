@@ -98,6 +98,24 @@ struct MethodFault {
   std::string message(gen::Distribution d, std::uint64_t seed) const;
 };
 
+/// One of a method's errors that a run records in its corpus, as a shard reports it for the merge
+/// to choose among: a run records the first corpus_per_class errors of each class its claim allows
+/// (by case index) and the 4 claim violations of each class farthest beyond their allowance (the
+/// earlier case first among equals). A shard's are the ones it would record of its own cases, a
+/// superset of the run's among them; merge_shards keeps what one run would record.
+struct CorpusCandidate {
+  std::uint64_t index = 0;   ///< the distribution's case index it was found on
+  ErrorClass error{};
+  bool violation = false;    ///< counted as a claim violation (chosen by rank) or not (by index)
+  /// Of a violation: its judged distance over its allowance (infinity: unbounded, as on a
+  /// float-exact case); 0 otherwise.
+  double rank = 0.0;
+  std::string id;            ///< the record's id
+  std::string file;          ///< under the corpus folder: <method>/<distribution>/<class>-<hash>.json
+  bool violates = false;     ///< the record's "violates_claim"
+  std::string text;          ///< the record's file text
+};
+
 struct MethodStats {
   std::string method;
   std::string program;  ///< Method::program: the program behind it (empty: in process)
@@ -127,6 +145,9 @@ struct MethodStats {
   /// Ids of the corpus cases that record this run's claim violations (up to 4 per error class),
   /// written now or recorded already by an earlier run with the same seed. Empty without a corpus.
   std::vector<std::string> violation_ids;
+  /// A shard's (VerifyOptions::shard, with a corpus): the records it would write, in the order it
+  /// writes them; a merged run's: those one run writes, in its order (write_merged_corpus).
+  std::vector<CorpusCandidate> corpus_candidates;
   /// Set when the method faulted in this distribution: its counts are over the cases before the
   /// fault's index (all of them when it faulted while being timed).
   std::optional<MethodFault> fault;
@@ -209,6 +230,15 @@ struct MergedRun {
   double longest_shard_seconds = 0.0;
 };
 MergedRun merge_shards(const std::vector<ShardFile>& shards, bool partial);
+/// Writes the merged run's corpus into `dir`: each method's chosen records (corpus_candidates), in
+/// the order one run writes them, each file written atomically and only where its name is free
+/// (a name taken by the same case found twice, by this run or an earlier one, keeps its file, as
+/// one run keeps it), and sets each method's corpus_written and violation_ids as one run sets them.
+/// Into a folder holding no record of this run, the files one run writes, byte for byte. Throws
+/// std::runtime_error naming the file, before anything is written, where a name holds another case
+/// (its frustum or volume differ) or a file that is not a readable record; and naming a file that
+/// cannot be written.
+void write_merged_corpus(VerifyResult& merged, const std::filesystem::path& dir);
 
 /// The false-intersect distances (relative to the scene size) counted per decade:
 /// {"first_decade": k0, "counts": [...], "below": n, "above": n}, where counts[i] holds the

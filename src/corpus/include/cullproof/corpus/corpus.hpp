@@ -100,11 +100,15 @@ std::string reproduce_command(std::uint64_t seed, gen::Distribution d, std::uint
 
 /// What write_corpus_case recorded: the case's id, whether this run wrote it (false: the same
 /// geometry was recorded already, by an earlier run or meanwhile by another thread), and whether
-/// the record breaks the method's claim (its "violates_claim").
+/// the record breaks the method's claim (its "violates_claim"); its file under the corpus folder
+/// (<method>/<distribution>/<class>-<hash>.json) and the text this case's record has there (what
+/// was written, or would have been had the name been free; a held record's text as read).
 struct CorpusRecord {
   std::string id;
   bool written = false;
   bool violates = false;
+  std::string file;
+  std::string text;
 };
 
 /// The judgement fields of a record of method m's error: "float_exact", "verdict_distance" (error_distance; null
