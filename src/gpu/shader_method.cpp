@@ -2,6 +2,8 @@
 // compiled with glslang, and run over many frames in one dispatch per kind.
 #include "vulkan.hpp"
 
+#include "cullproof/core/frustum_build.hpp"
+
 #include <fmt/format.h>
 #include <glslang/Include/glslang_c_interface.h>
 #include <glslang/Public/resource_limits_c.h>
@@ -334,10 +336,12 @@ std::optional<std::array<float, 24>> view_space_frustum(const Frustum& frustum) 
   const double lx = (glm::dot(n[0], r) - glm::dot(n[1], r)) / 2, lz = (glm::dot(n[0], f) + glm::dot(n[1], f)) / 2;
   const double by = (glm::dot(n[2], u) - glm::dot(n[3], u)) / 2, bz = (glm::dot(n[2], f) + glm::dot(n[3], f)) / 2;
   if (!(lx > 0.0 && lz > 0.0 && by > 0.0 && bz > 0.0)) return std::nullopt;  // a perspective frustum, under 180 degrees
-  // The eye: where left, right and bottom meet (Cramer's rule); the top passes through it.
-  const double det = glm::dot(n[0], glm::cross(n[1], n[2]));
-  if (!(std::fabs(det) > kTolerance)) return std::nullopt;
-  const glm::dvec3 eye = -(d[0] * glm::cross(n[1], n[2]) + d[1] * glm::cross(n[2], n[0]) + d[2] * glm::cross(n[0], n[1])) / det;
+  // The eye: where left, right and bottom meet, their unit normals spanning a volume over 2^-16
+  // (else the point is ill-defined); the top passes through it.
+  if (!(std::fabs(glm::dot(n[0], glm::cross(n[1], n[2]))) > kTolerance)) return std::nullopt;
+  const auto meet = planes_meet(glm::dvec4(n[0], d[0]), glm::dvec4(n[1], d[1]), glm::dvec4(n[2], d[2]));
+  if (!meet) return std::nullopt;
+  const glm::dvec3 eye = *meet;
   if (std::fabs(glm::dot(n[3], eye) + d[3]) > kTolerance * (1.0 + glm::length(eye))) return std::nullopt;
   const double znear = -(glm::dot(f, eye) + d[4]);
   const double zfar = infinite ? INFINITY : -(glm::dot(n[5], eye) + d[5]) / glm::dot(n[5], f);
