@@ -32,6 +32,20 @@ Method faulting() {
                      });
 }
 
+// A user's culler that claims exact, rejects every box right of x = 0 and calls the others
+// intersecting: claim violations of two classes at every distance from their allowance, so that the
+// corpus's choice of the farthest is put to the test.
+Method rejects_right() {
+  MethodInfo info;
+  info.name = "rejects-right";
+  info.claim = Claim::exact;
+  info.tolerance = 1e-6;  // an allowance to be beyond, by different amounts
+  return make_method(info, [](const CaseFrustum& f) { return f.planes; },
+                     [](const Frustum&, const Aabb& b) -> Visibility {
+                       return b.min.x + b.max.x > 0.0f ? V::outside : V::intersecting;
+                     });
+}
+
 std::vector<Method> methods() {
   std::vector<Method> ms = builtin_methods();
   ms.push_back(faulting());
@@ -95,13 +109,13 @@ void expect_same(const VerifyResult& one, const VerifyResult& merged, const std:
 
 // Shards 0..n-1 of the run, each through its JSON (as files carry them); with a corpus, each shard
 // writes its own (<corpus>-shard-K).
-std::vector<ShardFile> shards_of(const VerifyOptions& o, std::uint64_t n) {
+std::vector<ShardFile> shards_of(const VerifyOptions& o, std::uint64_t n, const std::vector<Method>& ms = methods()) {
   std::vector<ShardFile> files;
   for (std::uint64_t k = 0; k < n; ++k) {
     VerifyOptions s = o;
     s.shard = Shard{k, n};
     if (o.corpus) s.corpus = o.corpus->string() + "-shard-" + std::to_string(k);
-    files.push_back({"shard-" + std::to_string(k) + ".json", nlohmann::json::parse(to_json(run_verify(s, methods())).dump())});
+    files.push_back({"shard-" + std::to_string(k) + ".json", nlohmann::json::parse(to_json(run_verify(s, ms)).dump())});
   }
   return files;
 }
@@ -175,7 +189,9 @@ TEST(Shards, TheMergedCorpusIsTheOneRunsFileForFile) {
   o.corpus_per_class = 2;  // the first two of a class may lie in different shards
   o.corpus = scratch.path / "one";
   o.faults = scratch.path / "faults";
-  const VerifyResult one = run_verify(o, methods());
+  std::vector<Method> ms = methods();
+  ms.push_back(rejects_right());
+  const VerifyResult one = run_verify(o, ms);
   const auto reference = files_under(scratch.path / "one");
   // Records of both kinds: errors a claim allows (chosen by index), violations (by rank).
   std::size_t violations = 0, allowed = 0, with_fault = 0;
@@ -186,13 +202,20 @@ TEST(Shards, TheMergedCorpusIsTheOneRunsFileForFile) {
     with_fault += record.contains("verdict_faults") && record["verdict_faults"].contains("faults-high-up");
   }
   EXPECT_GT(with_fault, 0u);
+  // More violations of a class than are kept, at different distances: the choice of the farthest
+  // decides the corpus.
+  for (const auto& d : one.distributions)
+    for (const auto& m : d.methods)
+      if (m.method == "rejects-right") {
+        EXPECT_GT(m.claim_violations, 20u) << gen::to_string(d.distribution);
+      }
   ASSERT_GT(violations, 0u);
   ASSERT_GT(allowed, 0u);
   ASSERT_GT(reference.size(), 20u);
   for (std::uint64_t n : {3u, 7u}) {
     const std::string what = std::to_string(n) + " shards";
     o.corpus = scratch.path / ("run-of-" + std::to_string(n));
-    MergedRun merged = merge_shards(shards_of(o, n), false);
+    MergedRun merged = merge_shards(shards_of(o, n, ms), false);
     // The shards' corpora together hold more than the run's: each its own first and farthest.
     std::size_t shard_files = 0;
     for (std::uint64_t k = 0; k < n; ++k)
