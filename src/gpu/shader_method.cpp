@@ -275,7 +275,7 @@ class Runner {
   std::uint64_t own_volumes_ = 0;
 };
 
-class Prepared : public PreparedFrustum {
+class Prepared : public BatchesByKind<Prepared> {
  public:
   Prepared(std::shared_ptr<Runner> r, const CaseFrustum& f) : runner_(std::move(r)), frustum_(f) {}
   Answer classify(const Volume& v) override {
@@ -284,12 +284,9 @@ class Prepared : public PreparedFrustum {
     runner_->run(&one, 1, &a);
     return a;
   }
-  void classify_batch(const Point* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Sphere* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Aabb* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Obb* v, std::size_t n, Answer* a) override { many(v, n, a); }
 
  private:
+  friend class BatchesByKind<Prepared>;
   template <class K>
   void many(const K* v, std::size_t n, Answer* a) {
     volumes_.assign(v, v + n);

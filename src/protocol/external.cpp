@@ -355,16 +355,29 @@ struct External {
     }
     return {*processes[start], std::unique_lock<std::mutex>(processes[start]->mutex)};
   }
+  // A copy to ask (acquire), started again if it was stopped; a stateful method's next frame then
+  // asks the program to reset, since a program started again has forgotten every frame.
+  std::pair<Process&, std::unique_lock<std::mutex>> acquire_running() {
+    auto asked = acquire();
+    Process& p = asked.first;
+    if (p.dead()) p.restart();
+    if (stateful && p.generation() != generation) {
+      wants_reset = true;
+      generation = p.generation();
+    }
+    return asked;
+  }
+  // Adds what the program reported of its own time.
+  void add_own_time(double ns, std::uint64_t volumes) {
+    std::lock_guard<std::mutex> g(own_mutex);
+    own_ns += ns;
+    own_volumes += volumes;
+  }
 };
 
 // One frame message and its answer: verdicts for `volumes`, in order.
 void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::size_t n, Answer* out) {
-  auto [p, lock] = e.acquire();
-  if (p.dead()) p.restart();
-  if (e.stateful && p.generation() != e.generation) {
-    e.wants_reset = true;  // a program started again has forgotten every frame
-    e.generation = p.generation();
-  }
+  auto [p, lock] = e.acquire_running();
   const std::uint64_t id = p.next_frame++;
   std::string msg = fmt::format("{{\"frame\": {}, \"method\": {}, ", id, json(e.method).dump());
   if (e.wants_reset) msg += "\"reset\": true, ";
@@ -384,23 +397,14 @@ void ask(External& e, const CaseFrustum& f, const std::string* volumes, std::siz
   } catch (const std::runtime_error& bad) {
     p.fail(bad.what());
   }
-  if (r.ns) {
-    std::lock_guard<std::mutex> g(e.own_mutex);
-    e.own_ns += *r.ns;
-    e.own_volumes += n;
-  }
+  if (r.ns) e.add_own_time(*r.ns, n);
   std::copy(r.verdicts.begin(), r.verdicts.end(), out);
 }
 
 // Frames in one binary message (an entry per run of volumes of one kind) and its answer: verdicts
 // for every frame's volumes, frame after frame (std::nullopt for a frame it does not apply to).
 void ask_binary(External& e, const FrameRequest* frames, std::size_t n, Answer* out) {
-  auto [p, lock] = e.acquire();
-  if (p.dead()) p.restart();
-  if (e.stateful && p.generation() != e.generation) {
-    e.wants_reset = true;  // a program started again has forgotten every frame
-    e.generation = p.generation();
-  }
+  auto [p, lock] = e.acquire_running();
   // The message is made in a buffer kept per thread (a chunk's message is hundreds of KiB: made
   // afresh each time, its pages would be mapped and unmapped per message).
   thread_local std::string entries;
@@ -457,14 +461,10 @@ void ask_binary(External& e, const FrameRequest* frames, std::size_t n, Answer* 
     std::copy(replies[j].verdicts.begin(), replies[j].verdicts.end(), to[j]);
     if (replies[j].ns) ns += *replies[j].ns, timed += asked[j].volumes;
   }
-  if (timed) {
-    std::lock_guard<std::mutex> g(e.own_mutex);
-    e.own_ns += ns;
-    e.own_volumes += timed;
-  }
+  if (timed) e.add_own_time(ns, timed);
 }
 
-class Prepared : public PreparedFrustum {
+class Prepared : public BatchesByKind<Prepared> {
  public:
   Prepared(std::shared_ptr<External> e, CaseFrustum f) : e_(std::move(e)), f_(std::move(f)) {}
   Answer classify(const Volume& v) override {
@@ -479,12 +479,9 @@ class Prepared : public PreparedFrustum {
     ask(*e_, f_, &t, 1, &a);
     return a;
   }
-  void classify_batch(const Point* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Sphere* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Aabb* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Obb* v, std::size_t n, Answer* a) override { many(v, n, a); }
 
  private:
+  friend class BatchesByKind<Prepared>;
   template <class K>
   void many(const K* v, std::size_t n, Answer* a) {
     if (n == 0) return;

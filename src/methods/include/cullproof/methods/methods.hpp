@@ -141,6 +141,21 @@ class PreparedFrustum {
   virtual void classify_batch(const Obb* volumes, std::size_t n, Answer* answers) = 0;
 };
 
+/// A PreparedFrustum whose four array forms are one template, Derived::many(const K* volumes,
+/// std::size_t n, Answer* answers) for each kind K (Derived befriends BatchesByKind<Derived> when
+/// it keeps `many` private).
+template <class Derived>
+class BatchesByKind : public PreparedFrustum {
+ public:
+  void classify_batch(const Point* v, std::size_t n, Answer* a) override { self().many(v, n, a); }
+  void classify_batch(const Sphere* v, std::size_t n, Answer* a) override { self().many(v, n, a); }
+  void classify_batch(const Aabb* v, std::size_t n, Answer* a) override { self().many(v, n, a); }
+  void classify_batch(const Obb* v, std::size_t n, Answer* a) override { self().many(v, n, a); }
+
+ private:
+  Derived& self() { return static_cast<Derived&>(*this); }
+};
+
 /// One frame of several asked at once (Method::classify_frames): its frustum and its volumes.
 struct FrameRequest {
   const CaseFrustum* frustum = nullptr;
@@ -289,7 +304,7 @@ constexpr bool answers_two_way() {
 struct NoBatch {};
 
 template <class S, class F, class B>
-class Prepared final : public PreparedFrustum {
+class Prepared final : public BatchesByKind<Prepared<S, F, B>> {
  public:
   Prepared(S state, std::shared_ptr<const F> classify, std::shared_ptr<const B> batch)
       : state_(std::move(state)), classify_(std::move(classify)), batch_(std::move(batch)) {}
@@ -297,12 +312,9 @@ class Prepared final : public PreparedFrustum {
   Answer classify(const Volume& v) override {
     return std::visit([this](const auto& x) { return one(x); }, v);
   }
-  void classify_batch(const Point* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Sphere* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Aabb* v, std::size_t n, Answer* a) override { many(v, n, a); }
-  void classify_batch(const Obb* v, std::size_t n, Answer* a) override { many(v, n, a); }
 
  private:
+  friend class BatchesByKind<Prepared>;
   template <class K>
   Answer one(const K& x) {
     if constexpr (classifies<F, S, K>) {
