@@ -279,6 +279,48 @@ inline void send(const json& j) { std::cout << j.dump() << '\n' << std::flush; }
 
 }  // namespace detail
 
+// The points an engine that bounds a point list is given for a volume: the point; a box's or an
+// OBB's 8 corners (corner i takes the maximum, or +half, along axis k when bit k of i is set); a
+// sphere's 6 extreme points, c -+ r along each axis. In float, as the engines' own vectors compute.
+inline std::vector<Vec3> volume_points(const Volume& v) {
+  std::vector<Vec3> out;
+  switch (v.kind) {
+    case Volume::Kind::point: out.push_back(v.p); break;
+    case Volume::Kind::aabb:
+      for (unsigned i = 0; i < 8; ++i)
+        out.push_back({(i & 1u) ? v.q[0] : v.p[0], (i & 2u) ? v.q[1] : v.p[1], (i & 4u) ? v.q[2] : v.p[2]});
+      break;
+    case Volume::Kind::sphere:
+      for (std::size_t axis = 0; axis < 3; ++axis)
+        for (float sign : {-1.0f, 1.0f}) {
+          Vec3 x = v.p;
+          x[axis] += sign * v.radius;
+          out.push_back(x);
+        }
+      break;
+    case Volume::Kind::obb:
+      for (unsigned i = 0; i < 8; ++i) {
+        Vec3 x = v.p;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const float s = (i >> k & 1u) ? v.q[k] : -v.q[k];
+          for (std::size_t j = 0; j < 3; ++j) x[j] += v.axes[k][j] * s;
+        }
+        out.push_back(x);
+      }
+      break;
+  }
+  return out;
+}
+
+// Entry (3, c) of a column-major clip matrix of depth convention `depth` (reversed or not) made
+// OpenGL's (depth in [-1, 1], near at -1), for engines that take only that convention: from
+// [0, 1], 2 r3 - r4 (reversed: r4 - 2 r3); from reversed [-1, 1], -r3. r3 and r4 are column c's
+// entries of rows 3 and 4; the same planes, so the same frustum.
+inline double opengl_depth_row(double r3, double r4, const std::string& depth, bool reversed_z) {
+  if (depth == "zero_to_one") return reversed_z ? r4 - 2 * r3 : 2 * r3 - r4;
+  return reversed_z ? -r3 : r3;
+}
+
 // Speaks the protocol on stdin/stdout until {"bye": true} or the end of input; returns the exit
 // status. Version 1 when there are no systems, else 2. A message that cannot be answered (bad
 // message, unknown method or system, an exception) is answered with "error", which stops

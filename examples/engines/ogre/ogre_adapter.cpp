@@ -238,29 +238,7 @@ struct Scene {
   static void shape(Ogre::ManualObject& m, const cp::Volume& v) {
     m.clear();
     m.begin("BaseWhite", Ogre::RenderOperation::OT_POINT_LIST);
-    switch (v.kind) {
-      case cp::Volume::Kind::point: m.position(vec(v.p)); break;
-      case cp::Volume::Kind::aabb: {
-        const Ogre::AxisAlignedBox b(vec(v.p), vec(v.q));
-        for (const Ogre::Vector3& c : b.getAllCorners()) m.position(c);
-        break;
-      }
-      case cp::Volume::Kind::sphere:
-        for (int axis = 0; axis < 3; ++axis)
-          for (float sign : {-1.0f, 1.0f}) {
-            Ogre::Vector3 x = vec(v.p);
-            x[std::size_t(axis)] += sign * v.radius;
-            m.position(x);
-          }
-        break;
-      case cp::Volume::Kind::obb:
-        for (unsigned i = 0; i < 8; ++i) {
-          Ogre::Vector3 x = vec(v.p);
-          for (std::size_t k = 0; k < 3; ++k) x += vec(v.axes[k]) * ((i >> k & 1u) ? v.q[k] : -v.q[k]);
-          m.position(x);
-        }
-        break;
-    }
+    for (const cp::Vec3& x : cp::volume_points(v)) m.position(x[0], x[1], x[2]);
     m.end();
   }
 
@@ -309,11 +287,7 @@ struct Scene {
 
   void prepare(const cp::View& v) {
     std::array<float, 16> p = v.projection;
-    for (std::size_t c = 0; c < 4; ++c) {
-      const double r3 = p[4 * c + 2], r4 = p[4 * c + 3];
-      if (v.depth == "zero_to_one") p[4 * c + 2] = float(v.reversed_z ? r4 - 2 * r3 : 2 * r3 - r4);
-      else if (v.reversed_z) p[4 * c + 2] = float(-r3);
-    }
+    for (std::size_t c = 0; c < 4; ++c) p[4 * c + 2] = float(cp::opengl_depth_row(p[4 * c + 2], p[4 * c + 3], v.depth, v.reversed_z));
     const Ogre::Matrix4 projection = row_major(p);
     if (!accepted(projection)) throw std::runtime_error("OGRE cannot take this projection: its inverse is not finite in float");
     camera->setCustomProjectionMatrix(true, projection);

@@ -148,30 +148,7 @@ struct SceneGraph {
 
   static osg::Vec3Array* vertices(const cp::Volume& v) {
     auto* out = new osg::Vec3Array;
-    const auto vec = [](const cp::Vec3& x) { return osg::Vec3(x[0], x[1], x[2]); };
-    switch (v.kind) {
-      case cp::Volume::Kind::point: out->push_back(vec(v.p)); break;
-      case cp::Volume::Kind::aabb: {
-        const osg::BoundingBox b(vec(v.p), vec(v.q));
-        for (unsigned i = 0; i < 8; ++i) out->push_back(b.corner(i));
-        break;
-      }
-      case cp::Volume::Kind::sphere:
-        for (int axis = 0; axis < 3; ++axis)
-          for (float sign : {-1.0f, 1.0f}) {
-            osg::Vec3 x = vec(v.p);
-            x[axis] += sign * v.radius;
-            out->push_back(x);
-          }
-        break;
-      case cp::Volume::Kind::obb:
-        for (unsigned i = 0; i < 8; ++i) {
-          osg::Vec3 x = vec(v.p);
-          for (std::size_t k = 0; k < 3; ++k) x += vec(v.axes[k]) * ((i >> k & 1u) ? v.q[k] : -v.q[k]);
-          out->push_back(x);
-        }
-        break;
-    }
+    for (const cp::Vec3& x : cp::volume_points(v)) out->push_back(osg::Vec3(x[0], x[1], x[2]));
     return out;
   }
 
@@ -226,11 +203,7 @@ struct SceneGraph {
     if (!v.has_matrix) throw std::runtime_error("a view without its clip matrix: OSG culls with the projection");
     osg::Matrixd p = matrix(v.projection);
     // p(c, r) is row r, column c of the clip matrix (OpenGL's column-major order).
-    for (int c = 0; c < 4; ++c) {
-      const double r3 = p(c, 2), r4 = p(c, 3);
-      if (v.depth == "zero_to_one") p(c, 2) = v.reversed_z ? r4 - 2 * r3 : 2 * r3 - r4;
-      else if (v.reversed_z) p(c, 2) = -r3;
-    }
+    for (int c = 0; c < 4; ++c) p(c, 2) = cp::opengl_depth_row(p(c, 2), p(c, 3), v.depth, v.reversed_z);
     view->setProjectionMatrix(p);
     view->setViewMatrix(matrix(v.view));
   }
