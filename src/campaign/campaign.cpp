@@ -596,15 +596,11 @@ class DistributionRun {
         pending.push_back({i, cls, false});
       }
     }
-    // Up to kViolationsPerClass claim violations per (method, distribution, class): those farthest
-    // beyond their allowance (the float-exact ones, with none, first), the clearest evidence that
-    // rounding does not explain them; the earlier case first among equals.
-    constexpr std::size_t kViolationsPerClass = 4;
+    // The claim violations of each class farthest beyond their allowance (keep_farthest).
     if (opt_.corpus)
       for (auto& [cls, v] : violating) {
-        std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-        for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j)
-          pending.push_back({v[j].second, cls, true, v[j].first});
+        keep_farthest(v, [](const auto& x) { return x.first; });
+        for (const auto& [rank, i] : v) pending.push_back({i, cls, true, rank});
       }
     return s;
   }

@@ -7,7 +7,9 @@
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/corpus/corpus.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -48,6 +50,19 @@ MethodFault make_fault(const VerifyOptions& opt, const Method& m, gen::Distribut
                        const std::string& problem, const PathCase* path = nullptr);
 /// A fault while the method was timed (no case of the distribution to save).
 MethodFault timing_fault(const Method& m, const std::string& problem);
+
+// ---- The corpus's choice (campaign.cpp records it, shards.cpp merges it)
+
+/// Claim violations a run records per (method, distribution, class).
+inline constexpr std::size_t kViolationsPerClass = 4;
+/// Keeps, of `v` (in case order), the kViolationsPerClass farthest beyond their allowance
+/// (`rank(x)` larger first: the float-exact ones, with none, first), the clearest evidence that
+/// rounding does not explain them; the earlier case first among equals.
+template <class T, class Rank>
+void keep_farthest(std::vector<T>& v, Rank rank) {
+  std::stable_sort(v.begin(), v.end(), [&](const T& a, const T& b) { return rank(a) > rank(b); });
+  if (v.size() > kViolationsPerClass) v.erase(v.begin() + std::ptrdiff_t(kViolationsPerClass), v.end());
+}
 
 // ---- Timing (timing.cpp)
 

@@ -108,6 +108,10 @@ void print_tables(const VerifyResult& r, std::ostream& out) {
 
 namespace {
 
+// A number, or one that is not finite by its name ("inf", "-inf", "nan"): JSON has none, and a
+// shard's distances and ranks are read back in full (shards.cpp: number_or_name).
+nlohmann::json number_or_name(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(fmt::format("{}", x)); }
+
 nlohmann::json volume_names(unsigned bits) {
   nlohmann::json a = nlohmann::json::array();
   for (unsigned k : {kPointKind, kSphereKind, kAabbKind, kObbKind})
@@ -210,7 +214,7 @@ nlohmann::json to_json(const VerifyResult& r) {
                                {"violation_ids", m.violation_ids}});
       if (r.options.shard) {  // in full, a distance that is not finite as its name ("inf": an empty frustum)
         nlohmann::json all = nlohmann::json::array();
-        for (double x : dist) all.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(fmt::format("{}", x)));
+        for (double x : dist) all.push_back(number_or_name(x));
         jd["methods"].back()["fi_distances"] = all;
         if (r.options.corpus) {  // the records it would write, for the merge to choose among
           nlohmann::json cs = nlohmann::json::array();
@@ -218,7 +222,7 @@ nlohmann::json to_json(const VerifyResult& r) {
             cs.push_back({{"index", c.index},
                           {"class", to_string(c.error)},
                           {"violation", c.violation},
-                          {"rank", std::isfinite(c.rank) ? nlohmann::json(c.rank) : nlohmann::json("inf")},
+                          {"rank", number_or_name(c.rank)},
                           {"id", c.id},
                           {"file", c.file},
                           {"violates_claim", c.violates},

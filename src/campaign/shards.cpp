@@ -2,6 +2,7 @@
 // merged into the result one process would have given (campaign.hpp: merge_shards).
 #include "cullproof/campaign/campaign.hpp"
 
+#include "campaign_internal.hpp"
 #include "cullproof/corpus/corpus.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/io/files.hpp"
@@ -46,6 +47,15 @@ bool flag_of(const json& o, const char* key, const std::string& where) {
   const json& f = field(o, key, where);
   if (!f.is_boolean()) throw std::invalid_argument(fmt::format("{}: \"{}\" is {}, not true or false", where, key, f.dump()));
   return f.get<bool>();
+}
+// A number, or one that is not finite by its name ("inf", and "nan" where `nan` allows it: JSON has
+// neither), as to_json writes a shard's distances and ranks; else std::invalid_argument saying it
+// is not `what`.
+double number_or_name(const json& x, const std::string& where, const char* key, const char* what, bool nan) {
+  if (x.is_number()) return x.get<double>();
+  if (x == "inf") return std::numeric_limits<double>::infinity();
+  if (nan && x == "nan") return std::numeric_limits<double>::quiet_NaN();
+  throw std::invalid_argument(fmt::format("{}: \"{}\" holds {}, not {}", where, key, x.dump(), what));
 }
 // A number or null (NaN).
 double number_or_nan(const json& o, const char* key, const std::string& where) {
@@ -102,10 +112,12 @@ gen::Distribution distribution_of(const std::string& name, const std::string& wh
 }
 
 // A method's counts and a distribution's, by their JSON names: read and summed alike.
-struct MethodCount {
+template <class Of>
+struct Count {
   const char* name;
-  std::uint64_t MethodStats::*member;
+  std::uint64_t Of::*member;
 };
+using MethodCount = Count<MethodStats>;
 const MethodCount kMethodCounts[] = {
     {"cases", &MethodStats::cases},
     {"false_reject", &MethodStats::false_reject},
@@ -121,10 +133,7 @@ const MethodCount kTruthCounts[] = {  // under "truth"
     {"intersecting", &MethodStats::truth_intersecting},
     {"inside", &MethodStats::truth_inside},
 };
-struct DistributionCount {
-  const char* name;
-  std::uint64_t DistributionResult::*member;
-};
+using DistributionCount = Count<DistributionResult>;
 const DistributionCount kDistributionCounts[] = {
     {"cases", &DistributionResult::cases},
     {"cases_asked", &DistributionResult::cases_asked},
@@ -158,15 +167,7 @@ MethodStats method_of(const json& m, const std::string& where) {
   if (m.contains("fi_distances")) {
     const json& d = m["fi_distances"];
     if (!d.is_array()) throw std::invalid_argument(at + ": \"fi_distances\" is not an array");
-    for (const json& x : d) {
-      if (x.is_number()) {
-        s.fi_distance.push_back(x.get<double>());
-      } else if (x == "inf" || x == "nan") {
-        s.fi_distance.push_back(x == "inf" ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN());
-      } else {
-        throw std::invalid_argument(at + ": \"fi_distances\" holds " + x.dump() + ", not a distance");
-      }
-    }
+    for (const json& x : d) s.fi_distance.push_back(number_or_name(x, at, "fi_distances", "a distance", /*nan=*/true));
     if (s.fi_distance.size() != s.false_intersect)
       throw std::invalid_argument(fmt::format("{}: {} false-intersect distances for {} false intersects", at,
                                               s.fi_distance.size(), s.false_intersect));
@@ -186,13 +187,7 @@ MethodStats method_of(const json& m, const std::string& where) {
       k.index = count_of(c, "index", here);
       k.error = error_class_of(text_of(c, "class", here), here);
       k.violation = flag_of(c, "violation", here);
-      const json& rank = field(c, "rank", here);
-      if (rank == "inf")
-        k.rank = std::numeric_limits<double>::infinity();
-      else if (rank.is_number())
-        k.rank = rank.get<double>();
-      else
-        throw std::invalid_argument(fmt::format("{}: \"rank\" is {}, not a number", here, rank.dump()));
+      k.rank = number_or_name(field(c, "rank", here), here, "rank", "a number", /*nan=*/false);
       k.id = text_of(c, "id", here);
       k.file = text_of(c, "file", here);
       k.violates = flag_of(c, "violates_claim", here);
@@ -235,10 +230,8 @@ void add_unique(std::vector<std::string>& to, const std::vector<std::string>& fr
 
 // Of the shards' corpus candidates (in case order), those one run records, in the order it writes
 // them (campaign.cpp: tally): the first `per_class` errors of each class the claim allows, by case
-// index, then per class the 4 violations farthest beyond their allowance, the earlier case first
-// among equals.
+// index, then per class the violations keep_farthest keeps.
 std::vector<CorpusCandidate> chosen_records(std::vector<CorpusCandidate> all, int per_class) {
-  constexpr std::size_t kViolationsPerClass = 4;  // as the campaign's
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
   std::vector<CorpusCandidate> out;
   std::map<ErrorClass, int> kept;
@@ -250,8 +243,8 @@ std::vector<CorpusCandidate> chosen_records(std::vector<CorpusCandidate> all, in
       out.push_back(std::move(c));
   }
   for (auto& [cls, v] : violating) {
-    std::stable_sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.rank > b.rank; });
-    for (std::size_t j = 0; j < std::min(v.size(), kViolationsPerClass); ++j) out.push_back(std::move(v[j]));
+    detail::keep_farthest(v, [](const CorpusCandidate& x) { return x.rank; });
+    for (CorpusCandidate& c : v) out.push_back(std::move(c));
   }
   return out;
 }
@@ -459,6 +452,7 @@ void write_merged_corpus(VerifyResult& merged, const std::filesystem::path& dir)
   // First every name checked, so that a refusal leaves the folder as it was: a name taken (by an
   // earlier run, or by an earlier record of this one) must hold the same case, found twice.
   std::map<std::string, std::string> taken;  // file -> its geometry
+  std::set<std::string> there_before;          // files the folder held already
   for (const DistributionResult& d : merged.distributions)
     for (const MethodStats& m : d.methods)
       for (const CorpusCandidate& c : m.corpus_candidates) {
@@ -480,6 +474,7 @@ void write_merged_corpus(VerifyResult& merged, const std::filesystem::path& dir)
                                                  "not a readable record ({})", file.string(), c.index, e.what()));
           }
           it = taken.emplace(c.file, std::move(there)).first;
+          there_before.insert(c.file);
         }
         if (it == taken.end())
           taken.emplace(c.file, std::move(mine));
@@ -488,26 +483,28 @@ void write_merged_corpus(VerifyResult& merged, const std::filesystem::path& dir)
                                                "same name (two different records under one name; nothing was written)",
                                                file.string(), c.index));
       }
+  std::set<std::string> written_now;
   for (DistributionResult& d : merged.distributions)
     for (MethodStats& m : d.methods) {
       m.corpus_written.clear();
       m.violation_ids.clear();
       for (const CorpusCandidate& c : m.corpus_candidates) {
         if (c.file.empty()) continue;  // its shrunk case faulted: no record (the method's fault)
-        const std::filesystem::path file = dir / c.file;
-        bool written = false;
-        if (!std::filesystem::exists(file)) {
+        if (!there_before.count(c.file) && !written_now.count(c.file)) {
+          const std::filesystem::path file = dir / c.file;
           try {
             write_file_atomic(file, c.text, /*overwrite=*/false);
-            written = true;
+            written_now.insert(c.file);
+            m.corpus_written.push_back(c.id);
           } catch (const std::runtime_error&) {
-            if (!std::filesystem::exists(file)) throw;  // else written meanwhile: checked below
+            // Written meanwhile by another writer: kept if it holds this case, as one run keeps it.
+            if (!std::filesystem::exists(file)) throw;
+            if (geometry(read_file_limited(file, kMaxCaseFileBytes, "a corpus record"), file) != taken.at(c.file))
+              throw std::runtime_error(fmt::format("{}: written meanwhile with another case than the merged run's record of "
+                                                   "case {}", file.string(), c.index));
+            there_before.insert(c.file);
           }
         }
-        if (!written && geometry(read_file_limited(file, kMaxCaseFileBytes, "a corpus record"), file) != taken.at(c.file))
-          throw std::runtime_error(fmt::format("{}: written meanwhile with another case than the merged run's record of case {}",
-                                               file.string(), c.index));
-        if (written) m.corpus_written.push_back(c.id);
         if (c.violation && c.violates && std::find(m.violation_ids.begin(), m.violation_ids.end(), c.id) == m.violation_ids.end())
           m.violation_ids.push_back(c.id);
       }
