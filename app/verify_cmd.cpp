@@ -51,6 +51,14 @@ void catch_stop_signals() {
   ::sigaction(SIGTERM, &sa, nullptr);
 }
 
+// How many records a run (verify's or merge's) wrote into its corpus folder.
+void print_corpus_line(const VerifyResult& r, const std::filesystem::path& dir) {
+  std::size_t written = 0;
+  for (const auto& d : r.distributions)
+    for (const auto& m : d.methods) written += m.corpus_written.size();
+  std::cout << "corpus: " << written << " new case(s) written under " << dir.string() << "\n";
+}
+
 // The summary and the exit status of a complete run, verify's or merge's: 3 for a fault, 1 for a
 // broken claim, else 0.
 int outcome(const VerifyResult& r, const nlohmann::json& json) {
@@ -88,10 +96,7 @@ int cmd_verify(VerifyOptions opt, const std::string& json_file, const std::vecto
   nlohmann::json json = to_json(r);
   if (!devices.empty()) json["devices"] = devices;  // where the shaders ran, and how it computes
   if (!json_file.empty()) write_file_atomic(json_file, json.dump(2) + "\n");
-  std::size_t written = 0;
-  for (const auto& d : r.distributions)
-    for (const auto& m : d.methods) written += m.corpus_written.size();
-  if (opt.corpus) std::cout << "corpus: " << written << " new case(s) written under " << opt.corpus->string() << "\n";
+  if (opt.corpus) print_corpus_line(r, *opt.corpus);
   if (r.interrupted) {
 #ifdef CULLPROOF_HAVE_REPORT
     report::print_summary(report::summarize(json), std::cout);
@@ -233,9 +238,6 @@ int run_merge_command(const MergeCommand& c) {
       throw std::invalid_argument(shards.front().file + ": the shards ran without a corpus (--no-corpus): there are no records to merge");
     write_merged_corpus(r, c.corpus);
   }
-  std::size_t written = 0;
-  for (const auto& d : r.distributions)
-    for (const auto& m : d.methods) written += m.corpus_written.size();
   std::cout << fmt::format("merged {} of {} shards (seed {}, {} cases per distribution){}\n", merged.shards - merged.missing.size(),
                            merged.shards, r.options.seed, r.options.cases,
                            merged.missing.empty() ? std::string() : fmt::format("; PARTIAL: {} missing", merged.missing.size()));
@@ -254,7 +256,7 @@ int run_merge_command(const MergeCommand& c) {
   json["merged"] = {{"shards", merged.shards}, {"files", c.files}, {"partial", !merged.missing.empty()},
                     {"missing_shards", merged.missing}, {"longest_shard_seconds", merged.longest_shard_seconds}};
   if (!c.json_file.empty()) write_file_atomic(c.json_file, json.dump(2) + "\n");
-  if (!c.corpus.empty()) std::cout << "corpus: " << written << " new case(s) written under " << c.corpus << "\n";
+  if (!c.corpus.empty()) print_corpus_line(r, c.corpus);
   if (!merged.missing.empty()) {
     std::string list;
     for (std::uint64_t k : merged.missing) list += (list.empty() ? "" : ", ") + std::to_string(k);
