@@ -22,16 +22,80 @@
 
 namespace cullproof::gpu {
 
-float round_to_half(float x) {
-  if (!std::isfinite(x)) return x;
-  const float a = std::fabs(x);
-  // 65520 lies halfway between the largest half, 65504, and 2^16: to even, 2^16, which overflows.
-  if (a >= 65520.0f) return std::copysign(INFINITY, x);
+double round_to_half(double x, int direction) {
+  if (!std::isfinite(x) || x == 0.0) return x;
   int e = 0;
-  std::frexp(a, &e);                     // a = m 2^e, m in [0.5, 1)
-  const int quantum = std::max(e - 11, -24);  // a half's spacing in a's binade (subnormal halves: 2^-24)
-  const float r = std::ldexp(std::nearbyint(std::ldexp(a, -quantum)), quantum);  // to nearest, ties to even
-  return std::copysign(r, x);
+  std::frexp(x, &e);                          // |x| = m 2^e, m in [0.5, 1)
+  const int quantum = std::max(e - 11, -24);  // a half's spacing in x's binade (subnormal halves: 2^-24)
+  const double q = std::ldexp(x, -quantum);   // exact: a power of two
+  const double r = std::ldexp(direction == 0 ? std::nearbyint(q) : direction < 0 ? std::floor(q) : std::ceil(q), quantum);
+  if (r > 65504.0) return direction < 0 ? 65504.0 : INFINITY;  // to nearest: x >= 65520, halfway to 2^16 or past it
+  if (r < -65504.0) return direction > 0 ? -65504.0 : -INFINITY;
+  return r;
+}
+
+float round_to_half(float x) { return float(round_to_half(double(x), 0)); }
+
+Volume stored_volume(const Volume& v, HalfStorage how) {
+  if (how == HalfStorage::none) return v;
+  const auto nearest = [](float x) { return float(round_to_half(double(x), 0)); };
+  const auto nearest3 = [&](const glm::vec3& p) { return glm::vec3(nearest(p.x), nearest(p.y), nearest(p.z)); };
+  if (how == HalfStorage::nearest) {
+    if (const auto* p = std::get_if<Point>(&v)) return Volume(nearest3(*p));
+    if (const auto* s = std::get_if<Sphere>(&v)) return Volume(Sphere{nearest3(s->center), nearest(s->radius)});
+    if (const auto* b = std::get_if<Aabb>(&v)) return Volume(Aabb{nearest3(b->min), nearest3(b->max)});
+    const Obb& o = std::get<Obb>(v);
+    return Volume(Obb{nearest3(o.center), glm::mat3(nearest3(o.axes[0]), nearest3(o.axes[1]), nearest3(o.axes[2])),
+                      nearest3(o.half)});
+  }
+  if (std::holds_alternative<Point>(v))
+    throw std::invalid_argument("a point stored half-outward: a point cannot grow to contain its rounding");
+  // The centre and axes to the nearest finite half; what grows, rounded up after growing by what
+  // they moved, computed in double and enlarged by 2^-40 relatively, which covers the double
+  // arithmetic's own rounding (a few 2^-53) many times over.
+  const auto finite = [](float x) {
+    const double r = round_to_half(double(x), 0);
+    return float(std::isinf(r) && std::isfinite(x) ? std::copysign(65504.0, r) : r);
+  };
+  const auto finite3 = [&](const glm::vec3& p) { return glm::vec3(finite(p.x), finite(p.y), finite(p.z)); };
+  const auto moved = [](const glm::vec3& a, const glm::vec3& b) { return glm::length(glm::dvec3(a) - glm::dvec3(b)); };
+  // A radius or half extent grown by `growth` (NaN: an infinite coordinate moved), rounded up;
+  // exact when nothing moved.
+  const auto up = [](float x, double growth) {
+    if (growth == 0.0) return float(round_to_half(double(x), +1));
+    const double grown = (double(x) + growth) * (1.0 + 0x1p-40);
+    return float(grown >= 0.0 ? round_to_half(grown, +1) : INFINITY);
+  };
+  if (const auto* s = std::get_if<Sphere>(&v)) {
+    const glm::vec3 c = finite3(s->center);
+    return Volume(Sphere{c, up(s->radius, moved(s->center, c))});
+  }
+  if (const auto* b = std::get_if<Aabb>(&v)) {
+    glm::vec3 lo, hi;
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = float(round_to_half(double(b->min[i]), -1));
+      hi[i] = float(round_to_half(double(b->max[i]), +1));
+    }
+    return Volume(Aabb{lo, hi});
+  }
+  // An OBB: its points c + U t (|t_k| <= h_k) are c' + U' (t + s) with U' s = (c - c') + (U - U') t,
+  // so |s_k| <= |s| <= ||U'^-1|| d, d = |c - c'| + sum_k h_k |u_k - u'_k|; ||U'^-1|| bounded by its
+  // Frobenius norm, the adjugate's over the determinant (U' exact in double).
+  const Obb& o = std::get<Obb>(v);
+  Obb s{finite3(o.center), glm::mat3(finite3(o.axes[0]), finite3(o.axes[1]), finite3(o.axes[2])), glm::vec3(0.0f)};
+  double d = moved(o.center, s.center);
+  for (int k = 0; k < 3; ++k) d += double(o.half[k]) * moved(o.axes[k], s.axes[k]);
+  double grow = 0.0;
+  if (d != 0.0) {
+    const glm::dvec3 u0(s.axes[0]), u1(s.axes[1]), u2(s.axes[2]);
+    const double det = glm::dot(u0, glm::cross(u1, u2));
+    const double adjugate = std::sqrt(glm::dot(glm::cross(u1, u2), glm::cross(u1, u2)) +
+                                      glm::dot(glm::cross(u2, u0), glm::cross(u2, u0)) +
+                                      glm::dot(glm::cross(u0, u1), glm::cross(u0, u1)));
+    grow = det != 0.0 ? adjugate / std::fabs(det) * d : INFINITY;
+  }
+  for (int k = 0; k < 3; ++k) s.half[k] = up(o.half[k], grow);
+  return Volume(s);
 }
 
 std::string to_string(const Arithmetic& a) {
@@ -41,7 +105,8 @@ std::string to_string(const Arithmetic& a) {
   if (a.flush) add("flush");
   if (a.bounds < 0) add("bounds-low");
   if (a.bounds > 0) add("bounds-high");
-  if (a.half_storage) add("half");
+  if (a.half_storage == HalfStorage::nearest) add("half");
+  if (a.half_storage == HalfStorage::outward) add("half-outward");
   return s.empty() ? "device" : s;
 }
 
@@ -56,11 +121,12 @@ Arithmetic parse_arithmetic(const std::string& text) {
     else if (w == "flush") a.flush = true;
     else if (w == "bounds-low" && a.bounds <= 0) a.bounds = -1;
     else if (w == "bounds-high" && a.bounds >= 0) a.bounds = +1;
-    else if (w == "half") a.half_storage = true;
+    else if (w == "half" && a.half_storage != HalfStorage::outward) a.half_storage = HalfStorage::nearest;
+    else if (w == "half-outward" && a.half_storage != HalfStorage::nearest) a.half_storage = HalfStorage::outward;
     else
       throw std::invalid_argument(fmt::format(
-          "arithmetic '{}': '{}' is not a variant (device, or any of contract, flush, bounds-low or bounds-high, half "
-          "joined by '+')",
+          "arithmetic '{}': '{}' is not a variant, or contradicts one before it (device, or any of contract, flush, "
+          "bounds-low or bounds-high, half or half-outward joined by '+')",
           text, w));
     at = end + 1;
   }
@@ -68,14 +134,15 @@ Arithmetic parse_arithmetic(const std::string& text) {
 }
 
 std::vector<Arithmetic> all_arithmetic() {
-  std::vector<Arithmetic> v(7);
+  std::vector<Arithmetic> v(8);
   v[1].contract = true;
   v[2].flush = true;
   v[3].bounds = -1;
   v[4].bounds = +1;
-  v[5].half_storage = true;
-  v[6].contract = v[6].flush = true;
-  v[6].bounds = -1;
+  v[5].half_storage = HalfStorage::nearest;
+  v[6].half_storage = HalfStorage::outward;
+  v[7].contract = v[7].flush = true;
+  v[7].bounds = -1;
   return v;
 }
 

@@ -53,31 +53,29 @@ const Kind& kind_of(unsigned bit, bool view_space) {
 }
 
 // The volume's floats after the frame word.
-void put(std::vector<std::uint32_t>& out, float x, bool half) {
-  if (half) x = round_to_half(x);
+void put(std::vector<std::uint32_t>& out, float x) {
   std::uint32_t w;
   static_assert(sizeof w == sizeof x, "32-bit floats");
   std::memcpy(&w, &x, sizeof w);
   out.push_back(w);
 }
-void put(std::vector<std::uint32_t>& out, const glm::vec3& v, bool half) {
-  for (int i = 0; i < 3; ++i) put(out, v[i], half);
+void put(std::vector<std::uint32_t>& out, const glm::vec3& v) {
+  for (int i = 0; i < 3; ++i) put(out, v[i]);
 }
-// The volume's floats, each rounded to half precision when they are stored so.
-void put_volume(std::vector<std::uint32_t>& out, const Volume& v, bool half) {
-  if (const auto* p = std::get_if<Point>(&v)) return put(out, *p, half);
+void put_volume(std::vector<std::uint32_t>& out, const Volume& v) {
+  if (const auto* p = std::get_if<Point>(&v)) return put(out, *p);
   if (const auto* s = std::get_if<Sphere>(&v)) {
-    put(out, s->center, half);
-    return put(out, s->radius, half);
+    put(out, s->center);
+    return put(out, s->radius);
   }
   if (const auto* b = std::get_if<Aabb>(&v)) {
-    put(out, b->min, half);
-    return put(out, b->max, half);
+    put(out, b->min);
+    return put(out, b->max);
   }
   const Obb& o = std::get<Obb>(v);
-  put(out, o.center, half);
-  for (int c = 0; c < 3; ++c) put(out, o.axes[c], half);
-  put(out, o.half, half);
+  put(out, o.center);
+  for (int c = 0; c < 3; ++c) put(out, o.axes[c]);
+  put(out, o.half);
 }
 
 // glslang's process-wide state, made once (glslang_initialize_process is not reentrant).
@@ -158,7 +156,7 @@ void main() {
   Pipeline probe(device, compile_glsl(source, "cullproof arithmetic probe"));
   const float e = std::ldexp(1.0f, -23);
   std::vector<std::uint32_t> in;
-  for (float x : {std::ldexp(1.0f, -140), 1.0f, std::ldexp(1.0f, -70), 1.0f + e, 1.0f - e, -1.0f}) put(in, x, false);
+  for (float x : {std::ldexp(1.0f, -140), 1.0f, std::ldexp(1.0f, -70), 1.0f + e, 1.0f - e, -1.0f}) put(in, x);
   std::vector<std::uint32_t> out;
   std::lock_guard<std::mutex> lock(device->mutex());
   probe.dispatch({0.0f, 0.0f, 0.0f, 0.0f}, in, 5, out);  // one invocation (a group of one) writes the 5 words
@@ -235,7 +233,8 @@ class Runner {
           const Volume& v = frames[j].volumes[i];
           if (volume_kind(v) != kKinds[k].bit || (view && !described[j])) continue;
           records_.push_back(std::uint32_t(j));
-          put_volume(records_, v, half_);
+          if (half_ == HalfStorage::none) put_volume(records_, v);
+          else put_volume(records_, stored_volume(v, half_));
           where_.push_back(at);
         }
       if (where_.empty()) continue;
@@ -266,7 +265,8 @@ class Runner {
  private:
   MethodInfo info_;
   std::shared_ptr<Device> device_;
-  bool half_, view_space_;
+  HalfStorage half_;
+  bool view_space_;
   std::array<std::unique_ptr<Pipeline>, 4> pipelines_;  // by kKinds' first four
   // Reused from dispatch to dispatch (under the device's mutex).
   std::vector<std::uint32_t> records_, verdicts_;
@@ -413,6 +413,13 @@ Method make_shader_method(MethodInfo info, const Shader& shader, std::shared_ptr
   if (!arithmetic.device_only()) {
     info.name += "@" + to_string(arithmetic);
     info.source += "; arithmetic emulated: " + to_string(arithmetic) + " (docs/gpu.md)";
+  }
+  if (arithmetic.half_storage == HalfStorage::outward && (info.volumes & kPointKind)) {
+    info.volumes &= ~unsigned(kPointKind);
+    if (info.volumes == 0)
+      throw std::invalid_argument("shader method '" + info.name +
+                                  "': stored half-outward it takes no volume (a point cannot grow to contain its rounding)");
+    info.source += "; points not taken (a point cannot grow to contain its rounding)";
   }
   auto runner = std::make_shared<Runner>(info, shader, device, arithmetic);
   Method m(

@@ -103,6 +103,10 @@ std::vector<std::uint32_t> emulate_arithmetic(const std::vector<std::uint32_t>& 
 
 /// x rounded to binary16, to nearest even (overflow to infinity), and back: exact.
 float round_to_half(float x);
+/// x rounded to binary16 and back: to nearest even (`direction` 0), down (-1) or up (+1); beyond the
+/// largest half, 65504, infinity when the rounding goes that way, else 65504; infinities and NaN
+/// unchanged.
+double round_to_half(double x, int direction);
 
 /// The head of a compute shader over a Pipeline's buffers read as floats in and words out:
 /// `#version 450`, `local_size` invocations a group, `x[]` (floats in), `y[]` (words out), `count`

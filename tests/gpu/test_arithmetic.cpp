@@ -1,9 +1,11 @@
 // The emulated arithmetic (src/gpu/arithmetic.cpp) computes what it says, on the device: a fused
 // a * b + c equal to std::fma, bit for bit, where contraction is allowed and nowhere else;
 // subnormal operands and results flushed; inversesqrt, division, sqrt and length at the farthest
-// float their error bound allows, each way; half storage rounded to nearest even.
+// float their error bound allows, each way; half storage rounded to nearest even, or outward so
+// that the stored volume contains the case's.
 #include "vulkan.hpp"  // the library's private side: compile_glsl, emulate_arithmetic, Pipeline, float_kernel_head
 
+#include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -231,11 +233,155 @@ TEST(EmulatedArithmetic, HalfStorageRoundsToNearestEven) {
   EXPECT_EQ(round_to_half(0.1f), 0.0999755859375f);
 }
 
+// A binary16 value (or an infinity): at most 65504 in magnitude, a multiple of its binade's spacing
+// (11 significant bits; 2^-24 below 2^-14).
+bool is_half(double h) {
+  if (std::isinf(h) || h == 0.0) return true;
+  if (std::fabs(h) > 65504.0) return false;
+  int e = 0;
+  std::frexp(h, &e);
+  const double units = std::ldexp(h, -std::max(e - 11, -24));
+  return units == std::trunc(units);
+}
+
+// The spacing of the halves in the binade of h (finite, not 0).
+double half_spacing(double h) {
+  int e = 0;
+  std::frexp(h, &e);
+  return std::ldexp(1.0, std::max(e - 11, -24));
+}
+
+TEST(EmulatedArithmetic, HalfStorageRoundsDownAndUpToTheHalvesAroundAValue) {
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> exponent(-30, 18);
+  std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+  for (int i = 0; i < 200000; ++i) {
+    float x = float(std::ldexp(mantissa(rng), exponent(rng))) * ((rng() & 1) ? -1.0f : 1.0f);
+    if (i % 8 == 0) x = round_to_half(x);  // halves themselves, infinities among them
+    if (std::isinf(x)) continue;
+    const double down = round_to_half(double(x), -1), up = round_to_half(double(x), +1), nearest = round_to_half(double(x), 0);
+    ASSERT_TRUE(is_half(down) && is_half(up)) << x;
+    ASSERT_TRUE(down <= x && x <= up) << x << ": " << down << ", " << up;
+    ASSERT_TRUE(nearest == down || nearest == up) << x;
+    ASSERT_EQ(nearest, double(round_to_half(x))) << x;
+    if (is_half(x)) {
+      ASSERT_TRUE(down == x && up == x) << x;
+    } else if (std::isfinite(down) && std::isfinite(up)) {
+      ASSERT_LE(up - down, half_spacing(std::max(std::fabs(down), std::fabs(up)))) << x;  // no half between
+    } else {
+      ASSERT_GT(std::fabs(x), 65504.0f) << x;
+      ASSERT_EQ(x > 0 ? down : up, std::copysign(65504.0, x)) << x;
+    }
+  }
+  EXPECT_EQ(round_to_half(70000.0, -1), 65504.0);
+  EXPECT_EQ(round_to_half(70000.0, +1), INFINITY);
+  EXPECT_EQ(round_to_half(-70000.0, -1), -INFINITY);
+  EXPECT_EQ(round_to_half(-70000.0, +1), -65504.0);
+  EXPECT_EQ(round_to_half(1e-10, +1), std::ldexp(1.0, -24));
+  EXPECT_EQ(round_to_half(1e-10, -1), 0.0);
+  EXPECT_EQ(round_to_half(1.0 + std::ldexp(1.0, -20), +1), 1.0 + std::ldexp(1.0, -10));
+}
+
+// Random volumes at magnitudes from 2^-30 to 2^18 (beyond the halves' range, 65504, at the top).
+struct RandomVolumes {
+  std::mt19937_64 rng{12};
+  float coordinate(int lo = -30, int hi = 18) {
+    const int e = std::uniform_int_distribution<int>(lo, hi)(rng);
+    return float(std::ldexp(std::uniform_real_distribution<double>(-2.0, 2.0)(rng), e));
+  }
+  glm::vec3 point(int lo = -30, int hi = 18) { return {coordinate(lo, hi), coordinate(lo, hi), coordinate(lo, hi)}; }
+  glm::mat3 rotation() {
+    std::normal_distribution<float> g;
+    const glm::quat q = glm::normalize(glm::quat(g(rng), g(rng), g(rng), g(rng)));
+    return glm::mat3_cast(q);
+  }
+};
+
+TEST(EmulatedArithmetic, HalfOutwardStorageContainsTheVolumeAndGrowsItLittle) {
+  RandomVolumes r;
+  const auto absolute = [](const glm::vec3& v) { return std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z); };
+  for (int i = 0; i < 20000; ++i) {
+    // A sphere: the stored one holds the case's, by its centre's move and radius in long double.
+    const Sphere s{r.point(), std::fabs(r.coordinate())};
+    const Sphere t = std::get<Sphere>(stored_volume(s, HalfStorage::outward));
+    long double moved = 0;
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_TRUE(is_half(t.center[k]) && std::isfinite(t.center[k])) << t.center[k];
+      moved += (static_cast<long double>(s.center[k]) - t.center[k]) * (static_cast<long double>(s.center[k]) - t.center[k]);
+    }
+    ASSERT_TRUE(is_half(t.radius)) << t.radius;
+    ASSERT_GE(static_cast<long double>(t.radius), std::sqrt(moved) + s.radius) << i;
+    if (absolute(s.center) + s.radius < 1000.0f) {
+      ASSERT_LE(t.radius, s.radius + std::ldexp(1.0f, -9) * (absolute(s.center) + s.radius) + std::ldexp(1.0f, -23)) << i;
+    }
+
+    // A box: its bounds rounded down and up.
+    glm::vec3 lo = r.point(), hi = lo;
+    for (int k = 0; k < 3; ++k) hi[k] = lo[k] + std::fabs(r.coordinate());
+    const Aabb b = std::get<Aabb>(stored_volume(Aabb{lo, hi}, HalfStorage::outward));
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_TRUE(is_half(b.min[k]) && is_half(b.max[k]));
+      ASSERT_TRUE(b.min[k] <= lo[k] && hi[k] <= b.max[k]) << i;
+    }
+
+    // An OBB: every corner of the case's, in the stored axes' coordinates (long double, Cramer's
+    // rule), lies within the stored half extents.
+    const Obb o{r.point(), r.rotation(), glm::abs(r.point(-20, 12))};
+    const Obb u = std::get<Obb>(stored_volume(o, HalfStorage::outward));
+    using L = long double;
+    const auto at = [&](int row, int col) { return static_cast<L>(u.axes[col][row]); };
+    const auto det3 = [](const L m[3][3]) {
+      return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+             m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    };
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_TRUE(is_half(u.half[k]) && is_half(u.center[k])) << i;
+      for (int j = 0; j < 3; ++j) ASSERT_TRUE(is_half(u.axes[k][j])) << i;
+    }
+    L m[3][3];
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) m[row][col] = at(row, col);
+    const L det = det3(m);
+    ASSERT_NE(det, 0.0L);
+    for (int corner = 0; corner < 8; ++corner) {
+      L x[3];
+      for (int row = 0; row < 3; ++row) {
+        x[row] = static_cast<L>(o.center[row]) - u.center[row];
+        for (int k = 0; k < 3; ++k)
+          x[row] += ((corner >> k) & 1 ? 1 : -1) * static_cast<L>(o.half[k]) * static_cast<L>(o.axes[k][row]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        L n[3][3];
+        for (int row = 0; row < 3; ++row)
+          for (int col = 0; col < 3; ++col) n[row][col] = col == k ? x[row] : m[row][col];
+        const L along = det3(n) / det;
+        ASSERT_LE(std::fabs(along), static_cast<L>(u.half[k]) * (1 + 1e-15L)) << "obb " << i << ", corner " << corner << ", axis " << k;
+      }
+    }
+    if (absolute(o.center) + absolute(o.half) < 1000.0f) {
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_LE(u.half[k], o.half[k] + std::ldexp(1.0f, -7) * (absolute(o.center) + absolute(o.half)) + std::ldexp(1.0f, -23))
+            << i;
+      }
+    }
+  }
+  // Exact halves are stored as they are; a point cannot be stored outward.
+  const Sphere exact{glm::vec3(1.0f, -2.0f, 0.5f), 3.0f};
+  EXPECT_EQ(std::get<Sphere>(stored_volume(exact, HalfStorage::outward)).radius, 3.0f);
+  EXPECT_THROW(stored_volume(Point(1.0f, 2.0f, 3.0f), HalfStorage::outward), std::invalid_argument);
+  // To nearest, every float is rounded alone: a sphere may lose what its rounding moved.
+  const Sphere near = std::get<Sphere>(stored_volume(Sphere{glm::vec3(0.1f), 0.1f}, HalfStorage::nearest));
+  EXPECT_EQ(near.radius, round_to_half(0.1f));
+  EXPECT_EQ(near.center.x, round_to_half(0.1f));
+}
+
 TEST(EmulatedArithmetic, VariantsAreNamedAndParsedBack) {
   for (const Arithmetic& a : all_arithmetic()) EXPECT_EQ(parse_arithmetic(to_string(a)), a) << to_string(a);
   EXPECT_EQ(to_string(parse_arithmetic("half+contract")), "contract+half");
   EXPECT_THROW(parse_arithmetic("fused"), std::invalid_argument);
   EXPECT_THROW(parse_arithmetic("bounds-low+bounds-high"), std::invalid_argument);
+  EXPECT_THROW(parse_arithmetic("half+half-outward"), std::invalid_argument);
+  EXPECT_EQ(to_string(parse_arithmetic("half-outward+flush")), "flush+half-outward");
   EXPECT_THROW(parse_arithmetic(""), std::invalid_argument);
 }
 

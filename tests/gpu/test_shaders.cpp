@@ -69,10 +69,10 @@ Method certified(const gpu::Arithmetic& a) {
 }
 
 // One of the view-space sphere shaders (two-way).
-Method view_space(const std::string& stem) {
+Method view_space(const std::string& stem, const gpu::Arithmetic& a = {}) {
   MethodInfo info = described("glsl-" + stem, kSphereKind);
   info.three_way = false;
-  return gpu::make_shader_method(info, {read("examples/shaders/" + stem + ".glsl"), stem + ".glsl", true}, device());
+  return gpu::make_shader_method(info, {read("examples/shaders/" + stem + ".glsl"), stem + ".glsl", true}, device(), a);
 }
 
 // claim_holds with its corpus in a fresh folder of its own, removed after.
@@ -238,7 +238,7 @@ TEST(GpuShader, AnAnswerThatIsNotAVerdictIsAFaultNamingIt) {
 
 TEST(GpuArithmetic, TheCertifiedShaderHoldsUnderEveryArithmeticTheSpecificationAllows) {
   for (const gpu::Arithmetic& a : gpu::all_arithmetic()) {
-    if (a.half_storage) continue;
+    if (a.half_storage == gpu::HalfStorage::nearest) continue;
     EXPECT_TRUE(holds(certified(a))) << gpu::to_string(a);
   }
 }
@@ -246,6 +246,25 @@ TEST(GpuArithmetic, TheCertifiedShaderHoldsUnderEveryArithmeticTheSpecificationA
 TEST(GpuArithmetic, HalfStorageRefutesEvenTheCertifiedShader) {
   // A change of the volume, not of the arithmetic: no margin in the shader covers it.
   EXPECT_FALSE(holds(certified(variant("half")), 500));
+}
+
+TEST(GpuArithmetic, HalfStorageRoundedOutwardKeepsTheClaims) {
+  // The stored volume contains the case's: what the shader proves of it holds of the case's.
+  EXPECT_TRUE(holds(example(variant("half-outward"))));
+  EXPECT_TRUE(holds(view_space("view-symmetric-sphere", variant("half-outward"))));
+}
+
+TEST(GpuArithmetic, HalfOutwardTakesNoPoints) {
+  const Method m = example(variant("half-outward"));
+  EXPECT_EQ(m.volumes, kAllKinds & ~unsigned(kPointKind));
+  EXPECT_NE(m.source.find("points not taken"), std::string::npos) << m.source;
+  try {
+    gpu::make_shader_method(described("points", kPointKind), {read("examples/shaders/plane-tests.glsl"), "plane-tests.glsl"},
+                            device(), variant("half-outward"));
+    FAIL() << "a method of points only was made under half-outward";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("takes no volume"), std::string::npos) << e.what();
+  }
 }
 
 TEST(GpuArithmetic, TheExampleFallsToLengthAtItsLowerBoundAndToFlushing) {

@@ -80,6 +80,21 @@ std::shared_ptr<Device> open_device(const std::string& selector = "");
 /// The device's description.
 const DeviceInfo& info(const Device& d);
 
+/// How a shader's volumes are stored (Arithmetic::half_storage).
+enum class HalfStorage {
+  none,     ///< as the case gives them, 32-bit
+  nearest,  ///< binary16, every float rounded to nearest even, as meshlet bounds often are ("half")
+  /// binary16, rounded so that the stored volume contains the case's ("half-outward"): a box's
+  /// minimum rounded down and its maximum up; a sphere's and an OBB's centre (and an OBB's axes) to
+  /// the nearest finite half, the radius or half extents rounded up after growing by what that
+  /// moved (for an OBB, over the least stretch of its stored axes); a bound beyond the halves' range
+  /// becomes infinite where that contains the volume. A point cannot grow: it is not stored so.
+  outward,
+};
+
+/// `v` as a shader reads it when stored so; std::invalid_argument for a point stored outward.
+Volume stored_volume(const Volume& v, HalfStorage how);
+
 /// Arithmetic a device may use that the device at hand need not show, emulated on it: the shader's
 /// SPIR-V rewritten so that it computes as such a device would (docs/gpu.md, "Arithmetic a device
 /// may use"). The default, no variant, runs the shader as the device computes it.
@@ -95,22 +110,23 @@ struct Arithmetic {
   /// length, distance, normalize) return the float farthest from the exact value, toward zero (-1)
   /// or away from it (+1), that their error bound allows; 0: as the device computes them.
   int bounds = 0;
-  /// The volume's floats stored in half precision (binary16, rounded to nearest even) before the
-  /// shader reads them, as meshlet bounds often are; the planes stay 32-bit.
-  bool half_storage = false;
+  /// How the volume's floats are stored before the shader reads them (stored_volume); the planes
+  /// stay 32-bit.
+  HalfStorage half_storage = HalfStorage::none;
 
-  bool device_only() const noexcept { return !contract && !flush && bounds == 0 && !half_storage; }
+  bool device_only() const noexcept { return !contract && !flush && bounds == 0 && half_storage == HalfStorage::none; }
   friend bool operator==(const Arithmetic& a, const Arithmetic& b) {
     return a.contract == b.contract && a.flush == b.flush && a.bounds == b.bounds && a.half_storage == b.half_storage;
   }
 };
 
-/// "device", or the variants joined by '+' ("contract+flush+bounds-low+half").
+/// "device", or the variants joined by '+' ("contract+flush+bounds-low+half", "flush+half-outward").
 std::string to_string(const Arithmetic& a);
 /// The inverse of to_string; std::invalid_argument naming a word that is not a variant.
 Arithmetic parse_arithmetic(const std::string& text);
-/// The variants `--arithmetic all` runs: device, contract, flush, bounds-low, bounds-high, half, and
-/// contract+flush+bounds-low (a device that fuses, flushes and is as inexact as allowed).
+/// The variants `--arithmetic all` runs: device, contract, flush, bounds-low, bounds-high, half,
+/// half-outward, and contract+flush+bounds-low (a device that fuses, flushes and is as inexact as
+/// allowed).
 std::vector<Arithmetic> all_arithmetic();
 
 /// A culling shader: its GLSL source (the functions above), and the name to report it by in a
@@ -147,7 +163,8 @@ std::optional<std::array<float, 24>> view_space_frustum(const Frustum& planes);
 /// 0, 1 or 2 throws, naming the volume. Calls from several threads take turns on the device.
 ///
 /// With an `arithmetic` other than the device's own, the method is named NAME@VARIANT (to_string)
-/// and its SPIR-V is rewritten to compute so; a variant computing in 64-bit (contract, bounds) on a
+/// and its SPIR-V is rewritten to compute so; stored half-outward, it takes no points (info.volumes
+/// without kPointKind; none left throws std::invalid_argument); a variant computing in 64-bit (contract, bounds) on a
 /// device without shaderFloat64 and shaderInt64 throws std::invalid_argument saying so.
 Method make_shader_method(MethodInfo info, const Shader& shader, std::shared_ptr<Device> device = nullptr,
                           const Arithmetic& arithmetic = {});
