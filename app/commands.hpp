@@ -32,7 +32,7 @@ struct ExternalProgram {
   int handshake_timeout_ms = 30000;  ///< --external-handshake-timeout
   int jobs = 1;                      ///< --external-jobs (verify)
   std::vector<std::string> shaders;  ///< --shader FILE (repeatable): a shader's description (docs/gpu.md)
-  std::string device;                ///< --device: the Vulkan device the shaders run on
+  std::vector<std::string> device;   ///< --device (repeatable; 'all': every device): the Vulkan devices the shaders run on
   std::vector<std::string> arithmetic;  ///< --arithmetic (comma-separated, repeatable): the shaders' arithmetic variants
   /// The devices the shaders of the last methods() run on, as `devices --json` gives them (an
   /// array; empty without shaders): for the run's JSON.

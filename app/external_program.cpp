@@ -47,7 +47,8 @@ void ExternalProgram::add_options(CLI::App* cmd) {
                   "docs/gpu.md) on a Vulkan device (repeatable)");
   cmd->add_option("--device", device,
                   "The Vulkan device of --shader: an index or a part of its name (default: the first GPU, else the "
-                  "first device; 'cullproof devices' lists them)");
+                  "first device; 'cullproof devices' lists them); repeatable, or 'all': each shader runs on each "
+                  "device, its name followed by #INDEX");
   cmd->add_option("--arithmetic", arithmetic,
                   "Run each --shader under these arithmetic variants, emulated on the device (comma-separated: device, "
                   "or contract, flush, bounds-low, bounds-high, half or half-outward joined by '+'; 'all': device, each "
@@ -110,11 +111,38 @@ std::string read_text(const std::filesystem::path& file, const std::string& what
   return text.str();
 }
 
-// The shaders of --shader on the device of --device, each described by a JSON file whose "shader"
+#ifdef CULLPROOF_HAVE_GPU
+// The devices --device names ('all': every one), each opened once; two selectors that open one
+// device are refused, naming both.
+std::vector<std::pair<std::string, std::shared_ptr<gpu::Device>>> open_devices(const std::vector<std::string>& selectors) {
+  std::vector<std::string> chosen;
+  for (const std::string& s : selectors.empty() ? std::vector<std::string>{""} : selectors) {
+    if (s != "all") {
+      chosen.push_back(s);
+      continue;
+    }
+    const std::vector<gpu::DeviceInfo> every = gpu::list_devices();
+    if (every.empty()) throw std::invalid_argument("--device all: there is no Vulkan device");
+    for (const gpu::DeviceInfo& d : every) chosen.push_back(std::to_string(d.index));
+  }
+  std::vector<std::pair<std::string, std::shared_ptr<gpu::Device>>> out;
+  for (const std::string& s : chosen) {
+    std::shared_ptr<gpu::Device> d = gpu::open_device(s);
+    for (const auto& [other, o] : out)
+      if (gpu::info(*o).index == gpu::info(*d).index)
+        throw std::invalid_argument("--device '" + other + "' and --device '" + s + "' name one device, " +
+                                    std::to_string(gpu::info(*d).index) + " (" + gpu::info(*d).name + ")");
+    out.emplace_back(s, std::move(d));
+  }
+  return out;
+}
+#endif
+
+// The shaders of --shader on the devices of --device, each described by a JSON file whose "shader"
 // names its GLSL file (relative to the description's folder). Every description is read before
-// the device is opened; a description or shader that cannot be read, or is not valid, throws
+// a device is opened; a description or shader that cannot be read, or is not valid, throws
 // std::invalid_argument naming its file.
-std::vector<Method> shader_methods(const std::vector<std::string>& files, const std::string& device,
+std::vector<Method> shader_methods(const std::vector<std::string>& files, const std::vector<std::string>& device,
                                    const std::vector<std::string>& arithmetic, nlohmann::json& devices) {
   if (files.empty()) {
     if (!arithmetic.empty()) throw std::invalid_argument("--arithmetic applies to the shaders of --shader, and none is named");
@@ -147,17 +175,28 @@ std::vector<Method> shader_methods(const std::vector<std::string>& files, const 
     const std::filesystem::path glsl_path = std::filesystem::path(file).parent_path() / glsl_file;
     shaders.push_back({m.info, {read_text(glsl_path, "the shader"), glsl_path.string(), spheres == "view-space"}});
   }
-  const std::shared_ptr<gpu::Device> d = gpu::open_device(device);
-  std::printf("%s", gpu::describe(gpu::info(*d)).c_str());
-  devices.push_back(device_json(gpu::info(*d)));
+  const auto opened = open_devices(device);
+  for (const auto& [selector, d] : opened) {
+    std::printf("%s", gpu::describe(gpu::info(*d)).c_str());
+    devices.push_back(device_json(gpu::info(*d)));
+  }
+  // With more than one device a method's name says which it ran on (#INDEX), and so does its
+  // reproduce line; with one, both are as the command line gave them.
   std::vector<Method> out;
   for (std::size_t i = 0; i < shaders.size(); ++i)
-    for (const gpu::Arithmetic& v : variants) {
-      Method method = gpu::make_shader_method(shaders[i].first, shaders[i].second, d, v);
-      method.reproduce = "--shader " + files[i] + (device.empty() ? std::string() : " --device '" + device + "'") +
-                         (v.device_only() ? std::string() : " --arithmetic " + gpu::to_string(v));
-      out.push_back(std::move(method));
-    }
+    for (const auto& [selector, d] : opened)
+      for (const gpu::Arithmetic& v : variants) {
+        MethodInfo info = shaders[i].first;
+        std::string chosen = selector;
+        if (opened.size() > 1) {
+          chosen = std::to_string(gpu::info(*d).index);
+          info.name += "#" + chosen;
+        }
+        Method method = gpu::make_shader_method(info, shaders[i].second, d, v);
+        method.reproduce = "--shader " + files[i] + (chosen.empty() ? std::string() : " --device '" + chosen + "'") +
+                           (v.device_only() ? std::string() : " --arithmetic " + gpu::to_string(v));
+        out.push_back(std::move(method));
+      }
   return out;
 #else
   (void)device;
