@@ -298,6 +298,39 @@ class Prepared : public BatchesByKind<Prepared> {
   std::vector<Volume> volumes_;
 };
 
+// How far a description's planes may lie from the case's (gpu.hpp): their normals (the symmetry
+// is checked to within 2^-16) and their offsets.
+constexpr double kNormalError = 0x1p-14, kOffsetError = 0x1p-20;
+
+// How far the planes `out` describes lie from the case's planes (unit normals n, offsets d): at a
+// point whose view coordinates are y (y = V x + t, V and t as `out` holds them), a described
+// plane's value minus the case's is h_i . y + k_i. The largest |h_i|, and the largest |k_i| less
+// 2^-126 over |t|_1 + |e_i| (e_i the plane's offset in view space: 0, -near, far); in double, from
+// the floats as the shader reads them.
+std::pair<double, double> description_error(const std::array<float, 24>& out, const glm::dvec3 n[6], const double d[6],
+                                            bool infinite) {
+  glm::dmat3 v;  // v[column][row]: row k is view axis k (r, u, f), column j world axis j
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < 3; ++k) v[j][k] = double(out[std::size_t(4 * j + k)]);
+  const glm::dvec3 t(out[12], out[13], out[14]);
+  const glm::dmat3 w = glm::inverse(v);
+  const glm::dvec3 wt = w * t;
+  const double lx = out[16], lz = out[17], by = out[18], bz = out[19];
+  const glm::dvec3 m[6] = {{lx, 0.0, lz}, {-lx, 0.0, lz}, {0.0, by, bz}, {0.0, -by, bz}, {0.0, 0.0, 1.0}, {0.0, 0.0, -1.0}};
+  const double e[6] = {0.0, 0.0, 0.0, 0.0, -double(out[20]), double(out[21])};
+  double h = 0.0, k = 0.0;
+  for (int i = 0; i < (infinite ? 5 : 6); ++i) {
+    const double normal = glm::length(m[i] - glm::transpose(w) * n[i]);
+    const double off = std::fabs(e[i] - d[i] + glm::dot(n[i], wt));
+    const double scale = std::fabs(t.x) + std::fabs(t.y) + std::fabs(t.z) + std::fabs(e[i]);
+    // A float that overflowed, or axes with no inverse: no promise, no description.
+    if (!std::isfinite(normal) || !std::isfinite(off) || !std::isfinite(scale)) return {NAN, NAN};
+    h = std::max(h, normal);
+    if (off > 0x1p-126) k = std::max(k, scale > 0.0 ? (off - 0x1p-126) / scale : double(INFINITY));
+  }
+  return {h, k};
+}
+
 }  // namespace
 
 std::optional<std::array<float, 24>> view_space_frustum(const Frustum& frustum) {
@@ -334,11 +367,21 @@ std::optional<std::array<float, 24>> view_space_frustum(const Frustum& frustum) 
   const double by = (glm::dot(n[2], u) - glm::dot(n[3], u)) / 2, bz = (glm::dot(n[2], f) + glm::dot(n[3], f)) / 2;
   if (!(lx > 0.0 && lz > 0.0 && by > 0.0 && bz > 0.0)) return std::nullopt;  // a perspective frustum, under 180 degrees
   // The eye: where left, right and bottom meet, their unit normals spanning a volume over 2^-16
-  // (else the point is ill-defined); the top passes through it.
+  // (else the point is ill-defined), then where all four side planes come nearest; the top passes
+  // through it.
   if (!(std::fabs(glm::dot(n[0], glm::cross(n[1], n[2]))) > kTolerance)) return std::nullopt;
   const auto meet = planes_meet(glm::dvec4(n[0], d[0]), glm::dvec4(n[1], d[1]), glm::dvec4(n[2], d[2]));
   if (!meet) return std::nullopt;
-  const glm::dvec3 eye = *meet;
+  // In least squares over the four: three of them fix the point badly when two are nearly
+  // opposite (a field of view near 180 degrees), and the fourth then misses it by up to 2^-16.
+  glm::dmat3 normal_equations(0.0);
+  glm::dvec3 rhs(0.0);
+  for (int i = 0; i < 4; ++i) {
+    normal_equations += glm::outerProduct(n[i], n[i]);
+    rhs -= d[i] * n[i];
+  }
+  const glm::dvec3 refined = glm::inverse(normal_equations) * rhs;
+  const glm::dvec3 eye = std::isfinite(refined.x) && std::isfinite(refined.y) && std::isfinite(refined.z) ? refined : *meet;
   if (std::fabs(glm::dot(n[3], eye) + d[3]) > kTolerance * (1.0 + glm::length(eye))) return std::nullopt;
   const double znear = -(glm::dot(f, eye) + d[4]);
   const double zfar = infinite ? INFINITY : -(glm::dot(n[5], eye) + d[5]) / glm::dot(n[5], f);
@@ -358,6 +401,10 @@ std::optional<std::array<float, 24>> view_space_frustum(const Frustum& frustum) 
     out[std::size_t(16 + k)] = float(frustum_out[k]);
     out[std::size_t(20 + k)] = float(depth[k]);
   }
+  // The description's promise to a certified shader (gpu.hpp), checked on the floats it hands over
+  // (the double arithmetic here errs by some 2^-50, far inside the 2^-20 of the bounds left over).
+  const auto [h, k] = description_error(out, n, d, infinite);
+  if (!(h <= kNormalError * (1.0 - 0x1p-20) && k <= kOffsetError * (1.0 - 0x1p-20))) return std::nullopt;
   return out;
 }
 

@@ -144,6 +144,14 @@ std::vector<Arithmetic> all_arithmetic();
 /// frustum.w): a point's screen coordinates are (P00 x / z, P11 y / z). This describes a symmetric perspective frustum only: a case whose frustum is not one
 /// (within 2^-16, relatively, of its float planes) is not asked, and the shader's answer for its
 /// spheres is left out of its counts (the method does not apply to it).
+///
+/// What a certified shader may rely on: at a point x, with y = V x + t its view coordinates computed
+/// exactly from the floats given (V the view's upper 3x3, t its last column), each described plane's
+/// value (left: frustum.x y.x + frustum.y y.z; right: -frustum.x y.x + frustum.y y.z; bottom and top
+/// likewise with y.y, frustum.z, frustum.w; near: y.z - near; far: far - y.z) differs from the
+/// case's float plane's value, its normal made unit, by at most 2^-14 |y| + 2^-20 (|t|_1 + |e|) +
+/// 2^-126, e being 0, -near or far; a frustum the description cannot promise this of is not
+/// described.
 struct Shader {
   std::string glsl;
   std::string file = "shader.glsl";
