@@ -51,7 +51,8 @@ void ExternalProgram::add_options(CLI::App* cmd) {
                   "device, its name followed by #INDEX");
   cmd->add_option("--arithmetic", arithmetic,
                   "Run each --shader under these arithmetic variants, emulated on the device (comma-separated: device, "
-                  "or contract, flush, bounds-low, bounds-high, half or half-outward joined by '+'; 'all': device, each "
+                  "or contract, flush, bounds-low, bounds-high, relaxed, half or half-outward joined by '+'; 'all': "
+                  "device, each "
                   "alone, and "
                   "contract+flush+bounds-low; docs/gpu.md); default: device")
       ->delimiter(',');

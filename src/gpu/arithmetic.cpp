@@ -105,6 +105,7 @@ std::string to_string(const Arithmetic& a) {
   if (a.flush) add("flush");
   if (a.bounds < 0) add("bounds-low");
   if (a.bounds > 0) add("bounds-high");
+  if (a.relaxed) add("relaxed");
   if (a.half_storage == HalfStorage::nearest) add("half");
   if (a.half_storage == HalfStorage::outward) add("half-outward");
   return s.empty() ? "device" : s;
@@ -121,12 +122,13 @@ Arithmetic parse_arithmetic(const std::string& text) {
     else if (w == "flush") a.flush = true;
     else if (w == "bounds-low" && a.bounds <= 0) a.bounds = -1;
     else if (w == "bounds-high" && a.bounds >= 0) a.bounds = +1;
+    else if (w == "relaxed") a.relaxed = true;
     else if (w == "half" && a.half_storage != HalfStorage::outward) a.half_storage = HalfStorage::nearest;
     else if (w == "half-outward" && a.half_storage != HalfStorage::nearest) a.half_storage = HalfStorage::outward;
     else
       throw std::invalid_argument(fmt::format(
           "arithmetic '{}': '{}' is not a variant, or contradicts one before it (device, or any of contract, flush, "
-          "bounds-low or bounds-high, half or half-outward joined by '+')",
+          "bounds-low or bounds-high, relaxed, half or half-outward joined by '+')",
           text, w));
     at = end + 1;
   }
@@ -134,15 +136,16 @@ Arithmetic parse_arithmetic(const std::string& text) {
 }
 
 std::vector<Arithmetic> all_arithmetic() {
-  std::vector<Arithmetic> v(8);
+  std::vector<Arithmetic> v(9);
   v[1].contract = true;
   v[2].flush = true;
   v[3].bounds = -1;
   v[4].bounds = +1;
-  v[5].half_storage = HalfStorage::nearest;
-  v[6].half_storage = HalfStorage::outward;
-  v[7].contract = v[7].flush = true;
-  v[7].bounds = -1;
+  v[5].relaxed = true;
+  v[6].half_storage = HalfStorage::nearest;
+  v[7].half_storage = HalfStorage::outward;
+  v[8].contract = v[8].flush = true;
+  v[8].bounds = -1;
   return v;
 }
 
@@ -191,6 +194,7 @@ class Module {
     for (const Inst& i : head_) {
       if (i.op == spv::OpExtInstImport && literal(i.w, 1) == "GLSL.std.450") glsl_ = i.w[0];
       if (i.op == spv::OpDecorate && i.w[1] == spv::DecorationNoContraction) no_contraction.insert(i.w[0]);
+      if (i.op == spv::OpDecorate && i.w[1] == spv::DecorationRelaxedPrecision) relaxed.insert(i.w[0]);
       if (i.op == spv::OpCapability) capabilities_.insert(i.w[0]);
       if (i.op == spv::OpTypeFloat) types_[key('f', int(i.w[1]), 1)] = i.w[0];
       if (i.op == spv::OpTypeInt && i.w[2] == 0) types_[key('u', int(i.w[1]), 1)] = i.w[0];
@@ -350,6 +354,7 @@ class Module {
   std::unordered_map<std::uint32_t, std::uint32_t> type_of;  // result -> its type
   std::unordered_map<std::uint32_t, Inst> defs;              // result -> its instruction (in functions)
   std::set<std::uint32_t> no_contraction;
+  std::set<std::uint32_t> relaxed;  // decorated RelaxedPrecision (mediump): results, variables, parameters
 
  private:
   static std::string key(char kind, int width, int n) { return fmt::format("{}{}x{}", kind, width, n); }
@@ -389,12 +394,16 @@ class Module {
   std::unordered_map<std::uint32_t, std::uint32_t> renamed_;
 };
 
-// The rewriting of one module: flush first (it wraps the original instructions), then contraction
-// (which looks through a flushed product: a fused operation rounds, and flushes, once), then the
-// error bounds.
+// The rewriting of one module: relaxed precision on the module as compiled (relax), then, inlined
+// and in SSA form, flush first (it wraps the original instructions), then contraction (which looks
+// through a flushed product: a fused operation rounds, and flushes, once), then the error bounds.
 class Rewriter {
  public:
   Rewriter(Module& m, const Arithmetic& a) : m_(m), a_(a) {}
+
+  // Relaxed precision is rewritten alone, on the module as compiled, before anything removes the
+  // variables whose decoration says that what is stored in them and loaded from them is relaxed.
+  void relax() { pass(&Rewriter::relax_instruction); }
 
   void run() {
     if (a_.flush) pass(&Rewriter::flush_instruction);
@@ -425,6 +434,78 @@ class Rewriter {
   std::uint32_t cf(int width, int n, double v) { return m_.constant('f', width, n, v); }
   std::uint32_t cu(int width, int n, std::uint64_t v) { return m_.constant('u', width, n, 0.0, v); }
 
+  // ---- relaxed precision: a value decorated RelaxedPrecision computed at 16 bits
+  // x rounded to half precision, to nearest even, as round_to_half: the float's last 13 bits
+  // rounded off in its bits; below 2^-14 (subnormal halves) to a multiple of 2^-24 by adding and
+  // taking away 0.75 (NoContraction: computed as written), its sign kept; 2^16 and beyond (65520
+  // rounds there) infinite; infinities and NaN as they are. Not OpQuantizeToF16, which may flush
+  // subnormal halves to either zero (lavapipe's gives +0 for -2^-22).
+  std::uint32_t quantized(Out& out, std::uint32_t x, int n, std::uint32_t id = 0) {
+    const std::uint32_t F = f32(n), U = u32(n), B = boolean(n);
+    const std::uint32_t bits = m_.emit(out, spv::OpBitcast, U, {x});
+    const std::uint32_t odd = m_.emit(out, spv::OpBitwiseAnd, U, {m_.emit(out, spv::OpShiftRightLogical, U, {bits, cu(32, n, 13)}), cu(32, n, 1)});
+    const std::uint32_t up = m_.emit(out, spv::OpIAdd, U, {bits, m_.emit(out, spv::OpIAdd, U, {cu(32, n, 0x0fff), odd})});
+    const std::uint32_t normal = m_.emit(out, spv::OpBitcast, F, {m_.emit(out, spv::OpBitwiseAnd, U, {up, cu(32, n, 0xffffe000u)})});
+    const std::uint32_t a = m_.ext(out, GLSLstd450FAbs, F, {x});
+    const std::uint32_t tiny = m_.emit(out, spv::OpFSub, F, {m_.emit(out, spv::OpFAdd, F, {a, cf(32, n, 0.75)}), cf(32, n, 0.75)});
+    const std::uint32_t sign = m_.emit(out, spv::OpBitwiseAnd, U, {bits, cu(32, n, 0x80000000u)});
+    const std::uint32_t subnormal = m_.emit(out, spv::OpBitcast, F, {m_.emit(out, spv::OpBitwiseOr, U, {m_.emit(out, spv::OpBitcast, U, {tiny}), sign})});
+    const std::uint32_t infinite = m_.emit(out, spv::OpBitcast, F, {m_.emit(out, spv::OpBitwiseOr, U, {cu(32, n, 0x7f800000u), sign})});
+    std::uint32_t r = m_.emit(out, spv::OpSelect, F, {m_.emit(out, spv::OpFOrdLessThan, B, {a, cf(32, n, std::ldexp(1.0, -14))}), subnormal, normal});
+    r = m_.emit(out, spv::OpSelect, F, {m_.emit(out, spv::OpFOrdGreaterThanEqual, B, {m_.ext(out, GLSLstd450FAbs, F, {r}), cf(32, n, 65536.0)}), infinite, r});
+    const std::uint32_t special = m_.emit(out, spv::OpLogicalOr, B, {m_.emit(out, spv::OpIsNan, B, {x}), m_.emit(out, spv::OpIsInf, B, {x})});
+    return m_.emit(out, spv::OpSelect, F, {special, x, r}, id);
+  }
+
+  // A relaxed float instruction takes its 32-bit float operands and gives its result quantized to
+  // half precision (a basic operation on halves rounded through a float is rounded once, 24 >=
+  // 2 11 + 2: Figueroa 1995); so does a relaxed load or one from a relaxed variable, and a value
+  // stored in a relaxed variable is quantized first.
+  bool relax_instruction(const Inst& i, Out& out) {
+    if (i.op == spv::OpStore) {
+      const int n = m_.f32_size_of(i.w[1]);
+      if (!m_.relaxed.count(i.w[0]) || n == 0) return false;
+      Inst copy = i;
+      copy.w[1] = quantized(out, i.w[1], n);
+      out.push_back(std::move(copy));
+      return true;
+    }
+    bool has_result = false, has_type = false;
+    spv::HasResultAndType(i.op, &has_result, &has_type);
+    if (!has_result || !has_type || i.op == spv::OpVariable || i.op == spv::OpFunction ||
+        i.op == spv::OpFunctionParameter || i.op == spv::OpPhi)
+      return false;
+    const bool relaxed_load = i.op == spv::OpLoad && m_.relaxed.count(i.w[2]);
+    if (!m_.relaxed.count(i.w[1]) && !relaxed_load) return false;
+    const bool computes = is_float_instruction(i.op) && !(i.op == spv::OpExtInst && i.w[2] != m_.glsl());
+    wrapped(i, out, computes, true, [&](std::uint32_t x, int n, std::uint32_t id) { return quantized(out, x, n, id); });
+    return true;
+  }
+
+  // `i` with each 32-bit float operand x replaced by through(x, n, 0) when `operands`, and its
+  // 32-bit float result, when `result`, computed under a fresh id and given as through(it, n, id).
+  template <class Through>
+  void wrapped(const Inst& i, Out& out, bool operands, bool result, Through through) {
+    Inst copy = i;
+    if (operands) {
+      const std::size_t first = i.op == spv::OpExtInst ? 4 : 2;
+      for (std::size_t k = first; k < copy.w.size(); ++k)
+        if (const int n = m_.f32_size_of(copy.w[k])) copy.w[k] = through(copy.w[k], n, 0u);
+    }
+    const int n = m_.f32_size(copy.w[0]);
+    if (n == 0 || !result) {
+      out.push_back(std::move(copy));
+      return;
+    }
+    const std::uint32_t id = copy.w[1], computed = m_.fresh();
+    m_.rename(id, computed);
+    copy.w[1] = computed;
+    m_.type_of[computed] = copy.w[0];
+    m_.defs[computed] = copy;
+    out.push_back(std::move(copy));
+    through(computed, n, id);
+  }
+
   // ---- flushing: |x| < 2^-126 becomes x * 0 (a zero of x's sign)
   std::uint32_t flushed(Out& out, std::uint32_t x, int n, std::uint32_t id = 0) {
     const std::uint32_t a = m_.ext(out, GLSLstd450FAbs, f32(n), {x});
@@ -437,22 +518,7 @@ class Rewriter {
 
   bool flush_instruction(const Inst& i, Out& out) {
     if (!is_float_instruction(i.op) || (i.op == spv::OpExtInst && i.w[2] != m_.glsl())) return false;
-    Inst copy = i;
-    const std::size_t first = i.op == spv::OpExtInst ? 4 : 2;
-    for (std::size_t k = first; k < copy.w.size(); ++k)
-      if (const int n = m_.f32_size_of(copy.w[k])) copy.w[k] = flushed(out, copy.w[k], n);
-    const int n = m_.f32_size(copy.w[0]);
-    if (n == 0 || i.op == spv::OpFNegate) {
-      out.push_back(std::move(copy));
-      return true;
-    }
-    const std::uint32_t result = copy.w[1], computed = m_.fresh();
-    m_.rename(result, computed);
-    copy.w[1] = computed;
-    m_.type_of[computed] = copy.w[0];
-    m_.defs[computed] = copy;
-    out.push_back(std::move(copy));
-    flushed(out, computed, n, result);
+    wrapped(i, out, true, i.op != spv::OpFNegate, [&](std::uint32_t x, int n, std::uint32_t id) { return flushed(out, x, n, id); });
     return true;
   }
 
@@ -643,12 +709,25 @@ std::string joined(const std::vector<std::string>& lines) {
 
 }  // namespace
 
-std::vector<std::uint32_t> emulate_arithmetic(const std::vector<std::uint32_t>& spirv, const Arithmetic& a) {
-  if (!a.contract && !a.flush && a.bounds == 0) return spirv;
+std::vector<std::uint32_t> emulate_arithmetic(const std::vector<std::uint32_t>& compiled, const Arithmetic& a) {
+  if (!a.contract && !a.flush && a.bounds == 0 && !a.relaxed) return compiled;
   std::vector<std::string> messages;
   const auto collect = [&messages](spv_message_level_t, const char*, const spv_position_t& at, const char* m) {
     messages.push_back(fmt::format("word {}: {}", at.index, m));
   };
+  std::vector<std::uint32_t> spirv = compiled;
+  if (a.relaxed) {
+    Module m(compiled);
+    Rewriter(m, a).relax();
+    spirv = m.words();
+    if (!a.contract && !a.flush && a.bounds == 0) {
+      spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_0);
+      tools.SetMessageConsumer(collect);
+      if (!tools.Validate(spirv))
+        throw std::logic_error("emulated arithmetic " + to_string(a) + ": the rewritten shader does not validate:" + joined(messages));
+      return spirv;
+    }
+  }
   // Inlined and in SSA form, so that a product stored in a variable and added in another statement
   // is seen as a compiler sees it; these passes change no value.
   spvtools::Optimizer opt(SPV_ENV_VULKAN_1_0);

@@ -1,8 +1,8 @@
 // The emulated arithmetic (src/gpu/arithmetic.cpp) computes what it says, on the device: a fused
 // a * b + c equal to std::fma, bit for bit, where contraction is allowed and nowhere else;
 // subnormal operands and results flushed; inversesqrt, division, sqrt and length at the farthest
-// float their error bound allows, each way; half storage rounded to nearest even, or outward so
-// that the stored volume contains the case's.
+// float their error bound allows, each way; mediump values at 16 bits; half storage rounded to
+// nearest even, or outward so that the stored volume contains the case's.
 #include "vulkan.hpp"  // the library's private side: compile_glsl, emulate_arithmetic, Pipeline, float_kernel_head
 
 #include <glm/gtc/quaternion.hpp>
@@ -233,6 +233,34 @@ TEST(EmulatedArithmetic, HalfStorageRoundsToNearestEven) {
   EXPECT_EQ(round_to_half(0.1f), 0.0999755859375f);
 }
 
+TEST(EmulatedArithmetic, RelaxedPrecisionComputesMediumpAtSixteenBits) {
+  // mediump: what is stored in a relaxed variable is quantized to half precision, and so is each
+  // relaxed operation's result (its operands already are); a highp product beside it is untouched.
+  const std::size_t n = 20000;
+  const std::vector<float> x = triples(n);
+  Arithmetic relaxed;
+  relaxed.relaxed = true;
+  const std::string mediump = R"GLSL(
+float f(uint i) {
+  mediump float a = x[3u * i], b = x[3u * i + 1u], c = x[3u * i + 2u];
+  mediump float r = a * b + c;
+  return r;
+}
+)GLSL";
+  const std::string highp = "float f(uint i) { return x[3u * i] * x[3u * i + 1u] + x[3u * i + 2u]; }\n";
+  const std::vector<float> sixteen = run(mediump, x, n, relaxed), on_device = run(mediump, x, n, {});
+  const std::vector<float> untouched = run(highp, x, n, relaxed);
+  std::size_t differs = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float a = round_to_half(x[3 * i]), b = round_to_half(x[3 * i + 1]), c = round_to_half(x[3 * i + 2]);
+    const float want = round_to_half(round_to_half(a * b) + c);
+    ASSERT_EQ(bits(sixteen[i]), bits(want)) << x[3 * i] << " * " << x[3 * i + 1] << " + " << x[3 * i + 2];
+    ASSERT_EQ(bits(untouched[i]), bits(x[3 * i] * x[3 * i + 1] + x[3 * i + 2])) << i;
+    differs += bits(on_device[i]) != bits(want);
+  }
+  EXPECT_GT(differs, n / 2) << "lavapipe computes mediump at 32 bits: the variant must change it";
+}
+
 // A binary16 value (or an infinity): at most 65504 in magnitude, a multiple of its binade's spacing
 // (11 significant bits; 2^-24 below 2^-14).
 bool is_half(double h) {
@@ -382,6 +410,7 @@ TEST(EmulatedArithmetic, VariantsAreNamedAndParsedBack) {
   EXPECT_THROW(parse_arithmetic("bounds-low+bounds-high"), std::invalid_argument);
   EXPECT_THROW(parse_arithmetic("half+half-outward"), std::invalid_argument);
   EXPECT_EQ(to_string(parse_arithmetic("half-outward+flush")), "flush+half-outward");
+  EXPECT_EQ(to_string(parse_arithmetic("half+relaxed")), "relaxed+half");
   EXPECT_THROW(parse_arithmetic(""), std::invalid_argument);
 }
 

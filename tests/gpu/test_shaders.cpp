@@ -259,6 +259,17 @@ TEST(GpuArithmetic, HalfStorageRefutesEvenTheCertifiedShader) {
   EXPECT_FALSE(holds(certified(variant("half")), 500));
 }
 
+TEST(GpuArithmetic, AMediumpShaderHoldsAtThirtyTwoBitsAndBreaksWhereMediumpIsSixteen) {
+  // The example with one change, its default precision mediump, as mobile shaders are often
+  // written: lavapipe computes it at 32 bits, where it holds; a device computing mediump at 16
+  // bits breaks it. The example as it is (highp) is not changed by the variant.
+  const gpu::Shader mediump{"precision mediump float;\n" + read("examples/shaders/plane-tests.glsl"), "mediump.glsl"};
+  EXPECT_TRUE(holds(gpu::make_shader_method(described("glsl-mediump-plane-tests", kAllKinds), mediump, device())));
+  EXPECT_FALSE(holds(
+      gpu::make_shader_method(described("glsl-mediump-plane-tests", kAllKinds), mediump, device(), variant("relaxed")), 500));
+  EXPECT_TRUE(holds(example(variant("relaxed"))));
+}
+
 TEST(GpuArithmetic, HalfStorageRoundedOutwardKeepsTheClaims) {
   // The stored volume contains the case's: what the shader proves of it holds of the case's.
   EXPECT_TRUE(holds(example(variant("half-outward"))));

@@ -110,22 +110,30 @@ struct Arithmetic {
   /// length, distance, normalize) return the float farthest from the exact value, toward zero (-1)
   /// or away from it (+1), that their error bound allows; 0: as the device computes them.
   int bounds = 0;
+  /// Every value decorated RelaxedPrecision (GLSL `mediump`) computed at 16 bits, as many mobile
+  /// GPUs compute mediump: a relaxed instruction's float operands and result, a relaxed load's
+  /// result and what is stored in a relaxed variable rounded to half precision (to nearest even,
+  /// subnormal halves kept, 65520 and beyond infinite); elsewhere no change.
+  bool relaxed = false;
   /// How the volume's floats are stored before the shader reads them (stored_volume); the planes
   /// stay 32-bit.
   HalfStorage half_storage = HalfStorage::none;
 
-  bool device_only() const noexcept { return !contract && !flush && bounds == 0 && half_storage == HalfStorage::none; }
+  bool device_only() const noexcept {
+    return !contract && !flush && bounds == 0 && !relaxed && half_storage == HalfStorage::none;
+  }
   friend bool operator==(const Arithmetic& a, const Arithmetic& b) {
-    return a.contract == b.contract && a.flush == b.flush && a.bounds == b.bounds && a.half_storage == b.half_storage;
+    return a.contract == b.contract && a.flush == b.flush && a.bounds == b.bounds && a.relaxed == b.relaxed &&
+           a.half_storage == b.half_storage;
   }
 };
 
-/// "device", or the variants joined by '+' ("contract+flush+bounds-low+half", "flush+half-outward").
+/// "device", or the variants joined by '+' ("contract+flush+bounds-low+half", "relaxed+half-outward").
 std::string to_string(const Arithmetic& a);
 /// The inverse of to_string; std::invalid_argument naming a word that is not a variant.
 Arithmetic parse_arithmetic(const std::string& text);
-/// The variants `--arithmetic all` runs: device, contract, flush, bounds-low, bounds-high, half,
-/// half-outward, and contract+flush+bounds-low (a device that fuses, flushes and is as inexact as
+/// The variants `--arithmetic all` runs: device, contract, flush, bounds-low, bounds-high, relaxed,
+/// half, half-outward, and contract+flush+bounds-low (a device that fuses, flushes and is as inexact as
 /// allowed).
 std::vector<Arithmetic> all_arithmetic();
 
