@@ -52,9 +52,7 @@ void ExternalProgram::add_options(CLI::App* cmd) {
   cmd->add_option("--arithmetic", arithmetic,
                   "Run each --shader under these arithmetic variants, emulated on the device (comma-separated: device, "
                   "or contract, flush, bounds-low, bounds-high, relaxed, half or half-outward joined by '+'; 'all': "
-                  "device, each "
-                  "alone, and "
-                  "contract+flush+bounds-low; docs/gpu.md); default: device")
+                  "device, each alone, and contract+flush+bounds-low; docs/gpu.md); default: device")
       ->delimiter(',');
 }
 

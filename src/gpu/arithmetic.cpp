@@ -38,11 +38,10 @@ float round_to_half(float x) { return float(round_to_half(double(x), 0)); }
 
 Volume stored_volume(const Volume& v, HalfStorage how) {
   if (how == HalfStorage::none) return v;
-  const auto nearest = [](float x) { return float(round_to_half(double(x), 0)); };
-  const auto nearest3 = [&](const glm::vec3& p) { return glm::vec3(nearest(p.x), nearest(p.y), nearest(p.z)); };
+  const auto nearest3 = [](const glm::vec3& p) { return glm::vec3(round_to_half(p.x), round_to_half(p.y), round_to_half(p.z)); };
   if (how == HalfStorage::nearest) {
     if (const auto* p = std::get_if<Point>(&v)) return Volume(nearest3(*p));
-    if (const auto* s = std::get_if<Sphere>(&v)) return Volume(Sphere{nearest3(s->center), nearest(s->radius)});
+    if (const auto* s = std::get_if<Sphere>(&v)) return Volume(Sphere{nearest3(s->center), round_to_half(s->radius)});
     if (const auto* b = std::get_if<Aabb>(&v)) return Volume(Aabb{nearest3(b->min), nearest3(b->max)});
     const Obb& o = std::get<Obb>(v);
     return Volume(Obb{nearest3(o.center), glm::mat3(nearest3(o.axes[0]), nearest3(o.axes[1]), nearest3(o.axes[2])),
@@ -477,10 +476,13 @@ class Rewriter {
       return false;
     const bool relaxed_load = i.op == spv::OpLoad && m_.relaxed.count(i.w[2]);
     if (!m_.relaxed.count(i.w[1]) && !relaxed_load) return false;
-    const bool computes = is_float_instruction(i.op) && !(i.op == spv::OpExtInst && i.w[2] != m_.glsl());
-    wrapped(i, out, computes, true, [&](std::uint32_t x, int n, std::uint32_t id) { return quantized(out, x, n, id); });
+    wrapped(i, out, computes_float(i), true, [&](std::uint32_t x, int n, std::uint32_t id) { return quantized(out, x, n, id); });
     return true;
   }
+
+  // A floating-point instruction whose float operands a device computes with (is_float_instruction;
+  // of the extended instructions, GLSL's only).
+  bool computes_float(const Inst& i) { return is_float_instruction(i.op) && !(i.op == spv::OpExtInst && i.w[2] != m_.glsl()); }
 
   // `i` with each 32-bit float operand x replaced by through(x, n, 0) when `operands`, and its
   // 32-bit float result, when `result`, computed under a fresh id and given as through(it, n, id).
@@ -517,7 +519,7 @@ class Rewriter {
   }
 
   bool flush_instruction(const Inst& i, Out& out) {
-    if (!is_float_instruction(i.op) || (i.op == spv::OpExtInst && i.w[2] != m_.glsl())) return false;
+    if (!computes_float(i)) return false;
     wrapped(i, out, true, i.op != spv::OpFNegate, [&](std::uint32_t x, int n, std::uint32_t id) { return flushed(out, x, n, id); });
     return true;
   }
@@ -715,34 +717,29 @@ std::vector<std::uint32_t> emulate_arithmetic(const std::vector<std::uint32_t>& 
   const auto collect = [&messages](spv_message_level_t, const char*, const spv_position_t& at, const char* m) {
     messages.push_back(fmt::format("word {}: {}", at.index, m));
   };
-  std::vector<std::uint32_t> spirv = compiled;
+  std::vector<std::uint32_t> out = compiled;
   if (a.relaxed) {
-    Module m(compiled);
+    Module m(out);
     Rewriter(m, a).relax();
-    spirv = m.words();
-    if (!a.contract && !a.flush && a.bounds == 0) {
-      spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_0);
-      tools.SetMessageConsumer(collect);
-      if (!tools.Validate(spirv))
-        throw std::logic_error("emulated arithmetic " + to_string(a) + ": the rewritten shader does not validate:" + joined(messages));
-      return spirv;
-    }
+    out = m.words();
   }
-  // Inlined and in SSA form, so that a product stored in a variable and added in another statement
-  // is seen as a compiler sees it; these passes change no value.
-  spvtools::Optimizer opt(SPV_ENV_VULKAN_1_0);
-  opt.SetMessageConsumer(collect);
-  opt.RegisterPass(spvtools::CreateInlineExhaustivePass())
-      .RegisterPass(spvtools::CreateLocalSingleBlockLoadStoreElimPass())
-      .RegisterPass(spvtools::CreateLocalSingleStoreElimPass())
-      .RegisterPass(spvtools::CreateSSARewritePass())
-      .RegisterPass(spvtools::CreateAggressiveDCEPass());
-  std::vector<std::uint32_t> ssa;
-  if (!opt.Run(spirv.data(), spirv.size(), &ssa))
-    throw std::logic_error("emulated arithmetic " + to_string(a) + ": SPIRV-Tools cannot inline the shader:" + joined(messages));
-  Module m(ssa);
-  Rewriter(m, a).run();
-  std::vector<std::uint32_t> out = m.words();
+  if (a.contract || a.flush || a.bounds != 0) {
+    // Inlined and in SSA form, so that a product stored in a variable and added in another
+    // statement is seen as a compiler sees it; these passes change no value.
+    spvtools::Optimizer opt(SPV_ENV_VULKAN_1_0);
+    opt.SetMessageConsumer(collect);
+    opt.RegisterPass(spvtools::CreateInlineExhaustivePass())
+        .RegisterPass(spvtools::CreateLocalSingleBlockLoadStoreElimPass())
+        .RegisterPass(spvtools::CreateLocalSingleStoreElimPass())
+        .RegisterPass(spvtools::CreateSSARewritePass())
+        .RegisterPass(spvtools::CreateAggressiveDCEPass());
+    std::vector<std::uint32_t> ssa;
+    if (!opt.Run(out.data(), out.size(), &ssa))
+      throw std::logic_error("emulated arithmetic " + to_string(a) + ": SPIRV-Tools cannot inline the shader:" + joined(messages));
+    Module m(ssa);
+    Rewriter(m, a).run();
+    out = m.words();
+  }
   spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_0);
   tools.SetMessageConsumer(collect);
   if (!tools.Validate(out))

@@ -240,16 +240,10 @@ TEST(GpuShader, AnAnswerThatIsNotAVerdictIsAFaultNamingIt) {
 
 // ---- the arithmetic a device may use, emulated (docs/gpu.md)
 
-TEST(GpuArithmetic, TheCertifiedShaderHoldsUnderEveryArithmeticTheSpecificationAllows) {
+TEST(GpuArithmetic, TheCertifiedShadersHoldUnderEveryArithmeticTheSpecificationAllows) {
   for (const gpu::Arithmetic& a : gpu::all_arithmetic()) {
     if (a.half_storage == gpu::HalfStorage::nearest) continue;
     EXPECT_TRUE(holds(certified(a))) << gpu::to_string(a);
-  }
-}
-
-TEST(GpuArithmetic, TheCertifiedViewSpaceTestHoldsUnderEveryArithmeticTheSpecificationAllows) {
-  for (const gpu::Arithmetic& a : gpu::all_arithmetic()) {
-    if (a.half_storage == gpu::HalfStorage::nearest) continue;
     EXPECT_TRUE(holds(view_space("certified-view-sphere", a, Claim::certified_conservative))) << gpu::to_string(a);
   }
 }
