@@ -20,10 +20,8 @@ namespace cullproof::app {
 
 namespace {
 
-using nlohmann::json;
-
-json volume_names(unsigned bits) {
-  json a = json::array();
+nlohmann::json volume_names(unsigned bits) {
+  nlohmann::json a = nlohmann::json::array();
   for (unsigned k : {kPointKind, kSphereKind, kAabbKind, kObbKind})
     if (bits & k) a.push_back(std::string(volume_kind_name(k)));
   return a;
@@ -31,7 +29,7 @@ json volume_names(unsigned bits) {
 
 int cmd_methods(bool as_json) {
   if (as_json) {
-    json out = json::array();
+    nlohmann::json out = nlohmann::json::array();
     for (const Method& m : builtin_methods()) {
       out.push_back({{"name", m.name},
                      {"description", m.description},
@@ -71,9 +69,9 @@ int cmd_classify(const std::vector<std::string>& files, const std::vector<Method
         throw CaseError(file, c.line, c.frustum.matrix ? "frustum.matrix" : "frustum.planes",
                         std::string("the planes taken from it in float are not finite (") + e.what() + ")");
       }
-      json line = {{"id", c.id}};
+      nlohmann::json line = {{"id", c.id}};
       try {
-        json verdicts = json::object();
+        nlohmann::json verdicts = nlohmann::json::object();
         for (const Method& m : selected) {
           if (!m.takes(c.volume)) continue;
           const std::optional<Visibility> v = m.classify(c.frustum, c.volume);
@@ -82,7 +80,7 @@ int cmd_classify(const std::vector<std::string>& files, const std::vector<Method
         line["verdicts"] = verdicts;
 #ifdef CULLPROOF_HAVE_ORACLE
         if (!no_oracle) {
-          const json truth = oracle::to_json(oracle::classify(c.frustum, c.volume));
+          const nlohmann::json truth = oracle::to_json(oracle::classify(c.frustum, c.volume));
           for (auto it = truth.begin(); it != truth.end(); ++it) line[it.key()] = it.value();
         }
 #else

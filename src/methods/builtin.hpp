@@ -11,6 +11,9 @@
 
 namespace cullproof::detail {
 
+/// A method's per-frame phase that takes the case's planes as they are.
+inline const auto planes = [](const CaseFrustum& f) { return f.planes; };
+
 /// A MethodInfo written one named field at a time:
 ///   describe("pn-vertex", Origin::published).as("...").from("...").claims(Claim::conservative, 1e-6)
 ///       .on(kAabbKind).touching("...")

@@ -29,10 +29,10 @@ describe certified(std::string name, std::string description, std::string source
 
 const auto certified_frustum = [](const CaseFrustum& f) { return certify(f); };
 
-const auto aabb_kernel = [](const CertifiedFrustum& f) {
+const auto certified_aabb_kernel = [](const CertifiedFrustum& f) {
   return [&f](const AabbSoa& s, std::uint64_t* vis, std::uint64_t* ins) { certified_cull_aabbs_bitset(f, s, vis, ins); };
 };
-const auto sphere_kernel = [](const CertifiedFrustum& f) {
+const auto certified_sphere_kernel = [](const CertifiedFrustum& f) {
   return [&f](const SphereSoa& s, std::uint64_t* vis, std::uint64_t* ins) {
     certified_cull_spheres_bitset(f, s, vis, ins);
   };
@@ -82,15 +82,15 @@ void register_certified_methods(std::vector<Method>& out) {
       certified("pn-vertex-batch-certified",
                 "SIMD SoA batch of the certified n/p-vertex test (Highway dispatch); one volume runs as a full word of 64 copies",
                 "Assarsson & Möller 2000 §3.1, per-plane hoisted min/max", kAabbKind),
-      certified_frustum, [](const CertifiedFrustum& f, const Aabb& b) { return aabb_as_word(b, aabb_kernel(f)); },
-      [](const CertifiedFrustum& f, const Aabb* b, std::size_t n, Visibility* v) { aabb_batch(b, n, v, aabb_kernel(f)); }));
+      certified_frustum, [](const CertifiedFrustum& f, const Aabb& b) { return aabb_as_word(b, certified_aabb_kernel(f)); },
+      [](const CertifiedFrustum& f, const Aabb* b, std::size_t n, Visibility* v) { aabb_batch(b, n, v, certified_aabb_kernel(f)); }));
   out.push_back(make_method(
       certified("sphere-batch-certified",
                 "SIMD SoA batch of the certified sphere test (Highway dispatch); one volume runs as a full word of 64 copies",
                 "Lighthouse3D sphereInFrustum", kSphereKind),
-      certified_frustum, [](const CertifiedFrustum& f, const Sphere& s) { return sphere_as_word(s, sphere_kernel(f)); },
+      certified_frustum, [](const CertifiedFrustum& f, const Sphere& s) { return sphere_as_word(s, certified_sphere_kernel(f)); },
       [](const CertifiedFrustum& f, const Sphere* s, std::size_t n, Visibility* v) {
-        sphere_batch(s, n, v, sphere_kernel(f));
+        sphere_batch(s, n, v, certified_sphere_kernel(f));
       }));
   out.push_back(make_method(
       certified("sat-certified", "separating axes, each separation proved by a Farkas combination of planes",

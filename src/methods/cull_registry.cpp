@@ -29,7 +29,6 @@ const char* const kTouchPn =
     "value at the n-vertex == 0 counts as inside (touching from inside: inside)";
 
 // Per-frame states.
-const auto planes = [](const CaseFrustum& f) { return f.planes; };
 const auto normalized = [](const CaseFrustum& f) { return f.planes.normalized(); };
 
 struct ClipMatrix {

@@ -17,8 +17,6 @@ auto boxes(Fn fn) {
                   [fn](const auto& state, const Obb& b) { return fn(state, b); }};
 }
 
-const auto planes = [](const CaseFrustum& f) { return f.planes; };
-
 struct PlanesAndApex {
   Frustum planes;
   glm::vec3 apex;

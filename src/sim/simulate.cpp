@@ -13,6 +13,8 @@
 // cached state (plane-coherency cache, TR state) that produced it.
 #include "cullproof/sim/simulate.hpp"
 
+#include "clock.hpp"
+
 #include "cullproof/judge/judge.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/oracle/oracle.hpp"
@@ -56,11 +58,6 @@ std::uint64_t SimResult::forbidden_errors() const noexcept {
 }
 
 namespace {
-
-double now_ns() {
-  return static_cast<double>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
-}
 
 struct Progress {
   bool on;

@@ -11,6 +11,8 @@
 // speedup = median(baseline) / median(configuration), A&M's time1/time2 (footnote 2).
 #include "cullproof/sim/simulate.hpp"
 
+#include "clock.hpp"
+
 
 #include <fmt/format.h>
 
@@ -38,11 +40,6 @@ constexpr Config kTimed[6] = {Config::perspective_transform, Config::basic_np, C
                               Config::pc_tr,                 Config::pc_octant_tr, Config::masking};
 constexpr const char* kPaperSize[3] = {"184,000 polygons, 3800 nodes", "167,000 polygons, 188 nodes",
                                        "52,000 polygons, 1274 nodes"};
-
-double now_ns() {
-  return static_cast<double>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

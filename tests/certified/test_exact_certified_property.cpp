@@ -102,7 +102,7 @@ bool box_pass(const ExactCertifiedFrustum& f, const Aabb& b, Visibility& v) {
 void expect_box_pass_is_stage_one(const ExactCertifiedFrustum& f, const Aabb& b) {
   ExactStage stage;
   const Visibility scalar = exact_certified_aabb(f, b, &stage);
-  Visibility v;
+  Visibility v{};
   const bool decided = box_pass(f, b, v);
   if (decided != (stage == ExactStage::planes && !f.empty))
     RC_FAIL(std::string("the box pass ") + (decided ? "decides" : "leaves") + " a box the scalar stage 1 " +

@@ -59,6 +59,10 @@ bool float_range_ok(const Frustum& f, const Obb& b) noexcept;
 /// subnormal.
 bool hull_range_ok(const Frustum& f, const Obb& b, double hull_magnitude) noexcept;
 
+/// What a test run in float returns when the frustum's vertices leave float's range: run it again
+/// in double.
+inline constexpr int kRedo = -1;
+
 /// dot(n, x) + d in T, in Plane::eval's order (((n_x x + n_y y) + n_z z) + d).
 template <class T>
 T plane_eval(const Plane& p, const Vec3<T>& x) noexcept {

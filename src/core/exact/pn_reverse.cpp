@@ -23,8 +23,6 @@ using namespace exact_detail;
 
 namespace {
 
-constexpr int kRedo = -1;  // pn_vertex_reverse_in<float>: the frustum's vertices leave float's range
-
 template <class T>
 int pn_vertex_reverse_in(const Frustum& f, const Obb& b) {
   bool straddles = false;

@@ -35,8 +35,6 @@ using namespace exact_detail;
 
 namespace {
 
-constexpr int kRedo = -1;  // sat_separated_in<float>: the frustum's vertices leave float's range
-
 // `skip_ray`: a ray lying along the axis's own frustum edge (its projection is zero in exact
 // arithmetic; rounding would make it +-tiny and the range unbounded on a random side).
 template <class T>
