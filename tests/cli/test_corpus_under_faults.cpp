@@ -7,14 +7,13 @@
 // killed ones did not write.
 #include "cullproof/corpus/corpus.hpp"
 #include "cullproof/io/files.hpp"
+#include "harness_files.hpp"
 #include "run_program.hpp"
 
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <random>
 #include <regex>
@@ -25,23 +24,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using cullproof::test::files_under;
 
 std::vector<std::string> verify_args(const fs::path& corpus, int seed) {
   // hoff96 falsely rejects rods: each run writes its shrunk evidence, a handful of files.
   return {CULLPROOF_BIN, "verify", "--seed", std::to_string(seed), "-d", "rod", "-d", "corner", "--method", "hoff96",
           "--cases", "200", "--threads", "1", "--corpus", corpus.string(), "--no-progress"};
-}
-
-// Every file under `dir`, by its path relative to `dir`, with its bytes.
-std::map<std::string, std::string> files_under(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  if (!fs::exists(dir)) return out;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) {
-      std::ifstream in(e.path(), std::ios::binary);
-      out[fs::relative(e.path(), dir).string()] = std::string(std::istreambuf_iterator<char>(in), {});
-    }
-  return out;
 }
 
 // Files and folders under `dir` (0 when it does not exist).

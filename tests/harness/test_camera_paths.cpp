@@ -5,6 +5,7 @@
 // a correct coherent culler holds; a fault on a path names the frame and saves the path.
 #include <gtest/gtest.h>
 
+#include "harness_files.hpp"
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/corpus/corpus.hpp"
@@ -14,7 +15,6 @@
 #include "cullproof/oracle/oracle.hpp"
 #include "mutants.hpp"
 
-#include <unistd.h>
 
 #include <filesystem>
 #include <memory>
@@ -24,14 +24,10 @@
 namespace cullproof {
 namespace {
 
+using test::temp_dir;
+
 using V = Visibility;
 using gen::Distribution;
-
-std::filesystem::path temp_dir(const std::string& what) {
-  const auto d = std::filesystem::temp_directory_path() / ("cullproof-" + what + "-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(d);
-  return d;
-}
 
 VerifyOptions path_run(std::uint64_t cases) {
   VerifyOptions o;

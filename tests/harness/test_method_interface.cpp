@@ -3,6 +3,7 @@
 // refuted and fails the run), two-way methods, stateful methods, and methods that fault.
 #include <gtest/gtest.h>
 
+#include "harness_files.hpp"
 #include "cullproof/campaign/campaign.hpp"
 #include "cullproof/io/case_io.hpp"
 #include "cullproof/corpus/corpus.hpp"
@@ -10,7 +11,6 @@
 #include "cullproof/methods/methods.hpp"
 #include "cullproof/oracle/oracle.hpp"
 
-#include <unistd.h>
 
 #include <atomic>
 #include <filesystem>
@@ -22,6 +22,9 @@
 
 namespace cullproof {
 namespace {
+
+using test::files_under;
+using test::temp_dir;
 
 using V = Visibility;
 
@@ -63,12 +66,6 @@ VerifyOptions small_run(std::uint64_t cases) {
   o.progress = false;
   o.timing = false;
   return o;
-}
-
-std::filesystem::path temp_dir(const std::string& what) {
-  const auto d = std::filesystem::temp_directory_path() / ("cullproof-" + what + "-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(d);
-  return d;
 }
 
 TEST(MethodInterface, MakeMethodDeducesKindsAndDefaultsToAUserMethod) {
@@ -177,18 +174,6 @@ TEST(MethodInterface, APlantedBugIsRefutedFailsTheRunAndIsWrittenToTheCorpus) {
     EXPECT_TRUE(rr.reproduces) << e.file;
   }
   std::filesystem::remove_all(dir);
-}
-
-// Every file under dir: its path relative to dir and its text.
-std::map<std::string, std::string> files_under(const std::filesystem::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& f : std::filesystem::recursive_directory_iterator(dir))
-    if (f.is_regular_file()) {
-      std::ifstream in(f.path(), std::ios::binary);
-      out[std::filesystem::relative(f.path(), dir).string()] =
-          std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    }
-  return out;
 }
 
 TEST(MethodInterface, AnErrorTheCorpusHoldsIsNotShrunkAgainAndThreadsWriteTheSameCorpus) {

@@ -2,6 +2,7 @@
 // refutations, first violations, faults and false-intersect distances, for several shard counts,
 // on framed families, camera paths (stateful methods replaying each path) and a method that
 // faults part way. The merge refuses what would make a total silently smaller or wrong.
+#include "harness_files.hpp"
 #include "cullproof/campaign/campaign.hpp"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,8 @@
 
 namespace cullproof {
 namespace {
+
+using test::files_under;
 
 using V = Visibility;
 
@@ -158,18 +161,6 @@ TEST(Shards, MergedEqualOneRunForSeveralShardCounts) {
     // And through the merged JSON, as report --from reads it.
     expect_same(one, from_json(nlohmann::json::parse(to_json(merged.result).dump()), "merged"), "merged JSON", false);
   }
-}
-
-// Every file under `dir`, by its path relative to `dir`, with its bytes.
-std::map<std::string, std::string> files_under(const std::filesystem::path& dir) {
-  std::map<std::string, std::string> out;
-  if (!std::filesystem::exists(dir)) return out;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) {
-      std::ifstream in(e.path(), std::ios::binary);
-      out[std::filesystem::relative(e.path(), dir).generic_string()] = std::string(std::istreambuf_iterator<char>(in), {});
-    }
-  return out;
 }
 
 struct Scratch {

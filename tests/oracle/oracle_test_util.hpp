@@ -29,6 +29,9 @@ inline Frustum cube_frustum() {
   return f;
 }
 
+/// The cube as a case's frustum (given by its planes).
+inline CaseFrustum cube() { return frustum_spec(cube_frustum()); }
+
 inline Aabb box(glm::vec3 lo, glm::vec3 hi) { return Aabb{lo, hi}; }
 
 /// Every route of the oracle must give `expected`: filtered, exact-only, the independent

@@ -17,8 +17,6 @@ namespace {
 const float kOneUp = std::nextafter(1.0f, 2.0f);    // 1 + 2^-23
 const float kOneDown = std::nextafter(1.0f, 0.0f);  // 1 - 2^-24
 
-CaseFrustum cube() { return frustum_spec(cube_frustum()); }
-
 // The cube with its right plane replaced by x + y <= 1 (n = (-1,-1,0), d = 1).
 CaseFrustum cube_cut_xy() {
   Frustum f = cube_frustum();

@@ -11,8 +11,6 @@
 namespace cullproof::oracle::test {
 namespace {
 
-CaseFrustum cube() { return frustum_spec(cube_frustum()); }
-
 // The distance must be a lower bound (never above the exact value) and tight.
 void expect_distance(const CaseFrustum& f, const Volume& v, Visibility verdict, Visibility truth, VerdictShift shift,
                      double exact) {
